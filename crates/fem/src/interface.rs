@@ -1,0 +1,1 @@
+//! Geometry of 4-node interface elements (filled by the contact issue).

@@ -1,0 +1,2 @@
+//! Shared finite-element machinery of Tecon (placeholder while the workspace issue is built).
+pub mod interface;
