@@ -1,0 +1,273 @@
+//! Joints made of a normal law and a tangential law: an elastic joint and
+//! the Mohr–Coulomb (elastic–perfectly plastic) frictional joint. The
+//! paper's joint is [`PaperJoint`] = Ghaboussi normal + Mohr–Coulomb.
+
+use crate::error::{LawError, finite, positive};
+use crate::law::{Augmentation, ContactLaw, ContactStatus, LawResponse};
+use crate::normal::{GhaboussiNormal, NormalLaw, NormalStage, default_penalty};
+use nalgebra::{Matrix2, Vector2};
+
+/// History state of one integration point of a [`MohrCoulomb`] or
+/// [`ElasticJoint`] law.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JointState {
+    /// Plastic tangential slip `g_s` (m, signed): the part of `Δu_t` that
+    /// does not stretch the shear spring, `τ = k_s (Δu_t − g_s)` in stick.
+    pub slip: f64,
+    /// Accumulated (dissipative) slip `∫ |dg_s|` while in contact (m).
+    /// Free sliding of open faces is not counted.
+    pub accumulated_slip: f64,
+    /// Augmented-Lagrangian normal multiplier `λ` (Pa), updated only by
+    /// [`ContactLaw::augment`]. Zero for a pure penalty.
+    pub lambda_n: f64,
+}
+
+/// Shared augmented-Lagrangian update of a joint with normal law `N`.
+#[inline]
+fn augment_normal<N: NormalLaw>(
+    normal: &N,
+    jump: &Vector2<f64>,
+    state: &JointState,
+) -> Augmentation<JointState> {
+    let lambda = normal.updated_multiplier(jump.y, state.lambda_n);
+    Augmentation {
+        state: JointState {
+            lambda_n: lambda,
+            ..*state
+        },
+        multiplier_change: (lambda - state.lambda_n).abs(),
+    }
+}
+
+/// A joint with normal law `N` and a linear shear spring `k_s` that
+/// transmits shear only while the faces are not separated (in the
+/// separation stage `k_n = k_s = 0` and the traction is zero). No slip
+/// limit: the Ghaboussi joint of the paper below its Mohr–Coulomb limit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ElasticJoint<N: NormalLaw = GhaboussiNormal> {
+    normal: N,
+    k_s: f64,
+}
+
+impl<N: NormalLaw> ElasticJoint<N> {
+    /// Joint with normal law `normal` and shear stiffness `k_s > 0` (Pa/m).
+    ///
+    /// # Errors
+    /// [`LawError`] if `k_s` is not positive and finite.
+    pub fn new(normal: N, k_s: f64) -> Result<Self, LawError> {
+        Ok(Self {
+            normal,
+            k_s: positive("k_s", k_s)?,
+        })
+    }
+    /// The normal law.
+    pub fn normal_law(&self) -> &N {
+        &self.normal
+    }
+    /// Shear stiffness `k_s` (Pa/m).
+    pub fn k_s(&self) -> f64 {
+        self.k_s
+    }
+}
+
+impl<N: NormalLaw> ContactLaw for ElasticJoint<N> {
+    type State = JointState;
+
+    #[inline]
+    fn evaluate(&self, jump: &Vector2<f64>, committed: &JointState) -> LawResponse<JointState> {
+        let nr = self.normal.normal(jump.y, committed.lambda_n);
+        let (tau, k_s, status) = if nr.stage == NormalStage::Separation {
+            (0.0, 0.0, ContactStatus::Open)
+        } else {
+            (self.k_s * jump.x, self.k_s, ContactStatus::Stick)
+        };
+        LawResponse {
+            traction: Vector2::new(tau, nr.sigma),
+            tangent: Matrix2::new(k_s, 0.0, 0.0, nr.stiffness),
+            state: *committed,
+            status,
+            slip: committed.slip,
+        }
+    }
+
+    fn augment(&self, jump: &Vector2<f64>, state: &JointState) -> Augmentation<JointState> {
+        augment_normal(&self.normal, jump, state)
+    }
+}
+
+/// Mohr–Coulomb joint: normal law `N` and an elastic–perfectly plastic
+/// tangential law with shear stiffness `k_s`, cohesion `c` and friction
+/// angle `φ`.
+///
+/// Shear strength (the slip limit) from the compressive normal traction
+/// `σ_c = −σ`:
+///
+/// ```text
+///   s(σ_c) = max(0, c + σ_c tan φ),     |τ| ≤ s.
+/// ```
+///
+/// Return mapping from the committed slip `g_s`: trial
+/// `τ_tr = k_s (Δu_t − g_s)`; if `|τ_tr| ≤ s` the point sticks
+/// (`τ = τ_tr`); otherwise it slips, `τ = sign(τ_tr) s`,
+/// `g_s ← g_s + sign(τ_tr)(|τ_tr| − s)/k_s`. Exact consistent tangent:
+///
+/// ```text
+///   stick: [[k_s, 0], [0, k_n]]
+///   slip:  [[0, sign(τ_tr) ∂s/∂Δu_n], [0, k_n]],   ∂s/∂Δu_n = −tan φ · k_n  (s > 0)
+/// ```
+///
+/// non-symmetric when slipping. `k_n = ∂σ/∂Δu_n` from the normal law.
+///
+/// **Open faces and tension cut-off.** When the normal law is in its
+/// separation stage (Ghaboussi, `ε_n ≥ 0`) the joint transmits no traction
+/// at all, whatever the cohesion (`k_n = k_s = 0`); the faces slide freely,
+/// so `g_s` follows `Δu_t` and the shear spring is unstretched when the
+/// faces close again (this free sliding is not added to
+/// [`JointState::accumulated_slip`]). With a bilateral normal law
+/// ([`crate::LinearNormal`]) the strength falls linearly in tension and is
+/// cut off at zero beyond the apex `σ = c / tan φ`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MohrCoulomb<N: NormalLaw = GhaboussiNormal> {
+    normal: N,
+    k_s: f64,
+    cohesion: f64,
+    friction_angle: f64,
+    tan_phi: f64,
+}
+
+/// The paper's joint: Ghaboussi three-stage normal law + Mohr–Coulomb
+/// tangential law, zero traction when open.
+pub type PaperJoint = MohrCoulomb<GhaboussiNormal>;
+
+impl<N: NormalLaw> MohrCoulomb<N> {
+    /// Mohr–Coulomb joint with normal law `normal`, shear stiffness
+    /// `k_s > 0` (Pa/m), cohesion `c ≥ 0` (Pa) and friction angle
+    /// `φ ∈ [0, π/2)` in **radians**.
+    ///
+    /// # Errors
+    /// [`LawError`] for a non-positive `k_s`, negative `c`, `φ` outside
+    /// `[0, 90°)`, or non-finite values.
+    pub fn new(normal: N, k_s: f64, cohesion: f64, friction_angle: f64) -> Result<Self, LawError> {
+        let k_s = positive("k_s", k_s)?;
+        let c = finite("c", cohesion)?;
+        if c < 0.0 {
+            return Err(LawError::NegativeCohesion(c));
+        }
+        let phi = finite("phi", friction_angle)?;
+        if !(0.0..std::f64::consts::FRAC_PI_2).contains(&phi) {
+            return Err(LawError::FrictionAngle {
+                degrees: phi.to_degrees(),
+            });
+        }
+        Ok(Self {
+            normal,
+            k_s,
+            cohesion: c,
+            friction_angle: phi,
+            tan_phi: phi.tan(),
+        })
+    }
+
+    /// The normal law.
+    pub fn normal_law(&self) -> &N {
+        &self.normal
+    }
+    /// Shear stiffness `k_s` (Pa/m).
+    pub fn k_s(&self) -> f64 {
+        self.k_s
+    }
+    /// Cohesion `c` (Pa).
+    pub fn cohesion(&self) -> f64 {
+        self.cohesion
+    }
+    /// Friction angle `φ` (radians).
+    pub fn friction_angle(&self) -> f64 {
+        self.friction_angle
+    }
+    /// Friction coefficient `tan φ`.
+    pub fn tan_phi(&self) -> f64 {
+        self.tan_phi
+    }
+    /// Shear strength `s = max(0, c + σ_c tan φ)` at normal traction `σ`
+    /// (tension positive).
+    pub fn strength(&self, sigma: f64) -> f64 {
+        (self.cohesion - sigma * self.tan_phi).max(0.0)
+    }
+}
+
+impl PaperJoint {
+    /// Frictional contact with the documented default penalty: smooth
+    /// Ghaboussi normal law with `k_n = `[`default_penalty`]`(E, h)` and
+    /// `k_s = k_n`, cohesion `c` (Pa) and friction angle `φ` (radians).
+    ///
+    /// # Errors
+    /// As [`default_penalty`] and [`MohrCoulomb::new`].
+    pub fn with_default_penalty(
+        youngs_modulus: f64,
+        element_size: f64,
+        cohesion: f64,
+        friction_angle: f64,
+    ) -> Result<Self, LawError> {
+        let k = default_penalty(youngs_modulus, element_size)?;
+        Self::new(GhaboussiNormal::penalty(k)?, k, cohesion, friction_angle)
+    }
+}
+
+impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
+    type State = JointState;
+
+    #[inline]
+    fn evaluate(&self, jump: &Vector2<f64>, committed: &JointState) -> LawResponse<JointState> {
+        let nr = self.normal.normal(jump.y, committed.lambda_n);
+        let k_n = nr.stiffness;
+        if nr.stage == NormalStage::Separation {
+            // Open: no traction; the faces slide freely.
+            let state = JointState {
+                slip: jump.x,
+                ..*committed
+            };
+            return LawResponse {
+                traction: Vector2::new(0.0, nr.sigma),
+                tangent: Matrix2::new(0.0, 0.0, 0.0, k_n),
+                state,
+                status: ContactStatus::Open,
+                slip: state.slip,
+            };
+        }
+        let s_raw = self.cohesion - nr.sigma * self.tan_phi;
+        let (s, ds_dun) = if s_raw > 0.0 {
+            (s_raw, -self.tan_phi * k_n)
+        } else {
+            (0.0, 0.0)
+        };
+        let tau_trial = self.k_s * (jump.x - committed.slip);
+        if tau_trial.abs() <= s {
+            LawResponse {
+                traction: Vector2::new(tau_trial, nr.sigma),
+                tangent: Matrix2::new(self.k_s, 0.0, 0.0, k_n),
+                state: *committed,
+                status: ContactStatus::Stick,
+                slip: committed.slip,
+            }
+        } else {
+            let sign = tau_trial.signum();
+            let d_gamma = (tau_trial.abs() - s) / self.k_s;
+            let state = JointState {
+                slip: committed.slip + sign * d_gamma,
+                accumulated_slip: committed.accumulated_slip + d_gamma,
+                lambda_n: committed.lambda_n,
+            };
+            LawResponse {
+                traction: Vector2::new(sign * s, nr.sigma),
+                tangent: Matrix2::new(0.0, sign * ds_dun, 0.0, k_n),
+                state,
+                status: ContactStatus::Slip,
+                slip: state.slip,
+            }
+        }
+    }
+
+    fn augment(&self, jump: &Vector2<f64>, state: &JointState) -> Augmentation<JointState> {
+        augment_normal(&self.normal, jump, state)
+    }
+}
