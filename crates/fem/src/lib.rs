@@ -1,2 +1,36 @@
-//! Shared finite-element machinery of Tecon (placeholder while the workspace issue is built).
+//! `tecon-fem`: the shared finite-element machinery of Tecon.
+//!
+//! * [`Element`]: a set of elements with a pure local kernel (fixed-size
+//!   `nalgebra` matrix and vector) and its dof connectivity.
+//! * [`Assembler`]: the CSR pattern built once from all element blocks
+//!   (interface elements included), an element→slot map, values refilled in
+//!   parallel with bitwise identical results for any thread count.
+//! * [`DofMap`], [`Dirichlet`] constraints (symmetric elimination inside the
+//!   pattern), [`modes`] rigid-mode detection naming the free body.
+//! * [`CholeskySolver`] and [`LuSolver`] (faer): symbolic once, numeric many times.
+//! * [`triangle`]: linear-triangle geometry and reference kernels;
+//!   [`interface`]: geometry of 4-node interface elements.
+//!
+//! # Glossary
+//! * N_i: shape functions; B: strain–displacement matrix; D: elasticity matrix.
+//! * A: triangle area; k: conductivity; ρc: volumetric heat capacity.
+//! * dof: global unknown index, `node · n_components + component`.
+//! * slot: index of a stored entry in the CSR value array.
+
+pub mod assembler;
+pub mod constraints;
+pub mod dofmap;
+pub mod error;
 pub mod interface;
+pub mod modes;
+pub mod pattern;
+pub mod solver;
+pub mod triangle;
+
+pub use assembler::{Assembler, AssemblerBuilder, BlockId, Element, LocalSystem, Parallelism};
+pub use constraints::{Dirichlet, PreparedDirichlet};
+pub use dofmap::DofMap;
+pub use error::FemError;
+pub use modes::{RigidMode, check_rigid_modes, plane_rigid_modes, scalar_mode};
+pub use pattern::{CsrMatrix, SparsityPattern};
+pub use solver::{CholeskySolver, LuSolver, relative_residual};

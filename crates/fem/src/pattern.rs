@@ -1,0 +1,227 @@
+//! CSR sparsity pattern (built once) and the CSR matrix that refills its values.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use crate::error::FemError;
+
+/// Compressed-sparse-row pattern of a square matrix with sorted column indices.
+///
+/// Built from element connectivity it is structurally symmetric, so it is also
+/// the compressed-sparse-column pattern of the same matrix.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SparsityPattern {
+    n: usize,
+    indptr: Vec<usize>,
+    indices: Vec<usize>,
+}
+
+impl SparsityPattern {
+    /// Builds the pattern of the union of dense element blocks.
+    ///
+    /// `blocks` are flattened element dof lists, `ndof` dofs per element.
+    /// Diagonal entries are always present.
+    pub fn from_blocks(n: usize, blocks: &[(usize, &[usize])]) -> Result<Self, FemError> {
+        for (k, &(ndof, dofs)) in blocks.iter().enumerate() {
+            if ndof == 0 || dofs.len() % ndof != 0 {
+                return Err(FemError::LengthMismatch {
+                    what: format!("element block {k}"),
+                    got: dofs.len(),
+                    expected: ndof * (dofs.len() / ndof.max(1)),
+                });
+            }
+            if let Some(&d) = dofs.iter().find(|&&d| d >= n) {
+                return Err(FemError::DofOutOfRange {
+                    what: format!("element block {k}"),
+                    dof: d,
+                    n_dofs: n,
+                });
+            }
+        }
+        // Upper bound of entries per row: 1 (diagonal) + ndof per element touching it.
+        let mut count = vec![1usize; n];
+        for &(ndof, dofs) in blocks {
+            for &d in dofs {
+                count[d] += ndof;
+            }
+        }
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0usize);
+        for c in &count {
+            start.push(start.last().copied().unwrap_or(0) + c);
+        }
+        let total = start[n];
+        let mut cand = vec![0u32; total];
+        let mut fill = start[..n].to_vec();
+        for (i, f) in fill.iter_mut().enumerate() {
+            cand[*f] = i as u32;
+            *f += 1;
+        }
+        for &(ndof, dofs) in blocks {
+            for el in dofs.chunks_exact(ndof) {
+                for &r in el {
+                    let f = &mut fill[r];
+                    for (k, &c) in el.iter().enumerate() {
+                        cand[*f + k] = c as u32;
+                    }
+                    *f += ndof;
+                }
+            }
+        }
+        // Sort and dedup each row in parallel (each row is independent: deterministic).
+        let mut rows: Vec<&mut [u32]> = Vec::with_capacity(n);
+        let mut rest: &mut [u32] = &mut cand;
+        for i in 0..n {
+            let (head, tail) = rest.split_at_mut(start[i + 1] - start[i]);
+            rows.push(head);
+            rest = tail;
+        }
+        let lens: Vec<usize> = rows
+            .par_iter_mut()
+            .map(|row| {
+                row.sort_unstable();
+                let mut w = 0;
+                for r in 0..row.len() {
+                    if r == 0 || row[r] != row[w - 1] {
+                        row[w] = row[r];
+                        w += 1;
+                    }
+                }
+                w
+            })
+            .collect();
+        let mut indptr = Vec::with_capacity(n + 1);
+        indptr.push(0);
+        for l in &lens {
+            indptr.push(indptr.last().copied().unwrap_or(0) + l);
+        }
+        let mut indices = Vec::with_capacity(indptr[n]);
+        for i in 0..n {
+            indices.extend(
+                cand[start[i]..start[i] + lens[i]]
+                    .iter()
+                    .map(|&c| c as usize),
+            );
+        }
+        Ok(SparsityPattern { n, indptr, indices })
+    }
+
+    /// Number of rows (= columns).
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// Row pointers (length n + 1).
+    pub fn indptr(&self) -> &[usize] {
+        &self.indptr
+    }
+
+    /// Column indices, sorted within each row.
+    pub fn indices(&self) -> &[usize] {
+        &self.indices
+    }
+
+    /// Slot of entry (i, j) in the value array, if stored.
+    #[inline]
+    pub fn slot(&self, i: usize, j: usize) -> Option<usize> {
+        let (a, b) = (self.indptr[i], self.indptr[i + 1]);
+        self.indices[a..b].binary_search(&j).ok().map(|k| a + k)
+    }
+}
+
+/// A CSR matrix over a shared pattern.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CsrMatrix {
+    pattern: Arc<SparsityPattern>,
+    values: Vec<f64>,
+}
+
+impl CsrMatrix {
+    /// A zero matrix with the given pattern.
+    pub fn zeros(pattern: Arc<SparsityPattern>) -> Self {
+        let values = vec![0.0; pattern.nnz()];
+        CsrMatrix { pattern, values }
+    }
+
+    /// The pattern.
+    pub fn pattern(&self) -> &Arc<SparsityPattern> {
+        &self.pattern
+    }
+
+    /// Stored values.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Stored values, mutable.
+    pub fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.values
+    }
+
+    /// Number of rows.
+    pub fn n(&self) -> usize {
+        self.pattern.n
+    }
+
+    /// Entry (i, j), zero when not stored.
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.pattern.slot(i, j).map_or(0.0, |s| self.values[s])
+    }
+
+    /// y = A x.
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        let p = &self.pattern;
+        y.par_iter_mut().enumerate().for_each(|(i, yi)| {
+            let mut s = 0.0;
+            for k in p.indptr[i]..p.indptr[i + 1] {
+                s += self.values[k] * x[p.indices[k]];
+            }
+            *yi = s;
+        });
+    }
+
+    /// Dense copy (for tests and small systems).
+    pub fn to_dense(&self) -> nalgebra::DMatrix<f64> {
+        let n = self.n();
+        let mut d = nalgebra::DMatrix::zeros(n, n);
+        for i in 0..n {
+            for k in self.pattern.indptr[i]..self.pattern.indptr[i + 1] {
+                d[(i, self.pattern.indices[k])] += self.values[k];
+            }
+        }
+        d
+    }
+
+    /// A copy as a `sprs` CSR matrix (e.g. for Matrix Market output).
+    pub fn to_sprs(&self) -> sprs::CsMat<f64> {
+        sprs::CsMat::new(
+            (self.n(), self.n()),
+            self.pattern.indptr.clone(),
+            self.pattern.indices.clone(),
+            self.values.clone(),
+        )
+    }
+
+    /// Largest |a_ij − a_ji| relative to the largest |a_ij|.
+    pub fn asymmetry(&self) -> f64 {
+        let p = &self.pattern;
+        let mut amax: f64 = 0.0;
+        let mut dmax: f64 = 0.0;
+        for i in 0..p.n {
+            for k in p.indptr[i]..p.indptr[i + 1] {
+                let j = p.indices[k];
+                amax = amax.max(self.values[k].abs());
+                if let Some(s) = p.slot(j, i) {
+                    dmax = dmax.max((self.values[k] - self.values[s]).abs());
+                }
+            }
+        }
+        if amax == 0.0 { 0.0 } else { dmax / amax }
+    }
+}

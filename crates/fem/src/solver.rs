@@ -1,0 +1,248 @@
+//! Sparse direct solvers through `faer`: symbolic analysis once, numeric
+//! refactorisation whenever the values change, many solves.
+//!
+//! * [`CholeskySolver`]: LLᵀ with AMD ordering for symmetric positive
+//!   definite systems (conduction, elasticity with stick/linear joints).
+//! * [`LuSolver`]: LU with partial pivoting for general systems (the
+//!   non-symmetric friction tangent).
+//!
+//! The CSR arrays are handed to faer without a copy: a structurally symmetric
+//! CSR pattern is the CSC pattern of the transpose, so the values are those
+//! of Aᵀ in CSC form. Cholesky reads the lower triangle of Aᵀ (the upper of
+//! A, equal for symmetric A); LU factorises Aᵀ and solves with the transpose.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+};
+use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+use crate::error::FemError;
+use crate::pattern::{CsrMatrix, SparsityPattern};
+
+fn par() -> Par {
+    let t = rayon::current_num_threads();
+    if t <= 1 { Par::Seq } else { Par::rayon(t) }
+}
+
+/// The CSR pattern viewed as a CSC pattern (valid by construction: sorted,
+/// in-range indices).
+fn symbolic_view(p: &SparsityPattern) -> SymbolicSparseColMatRef<'_, usize> {
+    SymbolicSparseColMatRef::new_checked(p.n(), p.n(), p.indptr(), None, p.indices())
+}
+
+fn check_finite(what: &str, v: &[f64]) -> Result<(), FemError> {
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(index) => Err(FemError::NonFinite {
+            what: what.into(),
+            index,
+        }),
+        None => Ok(()),
+    }
+}
+
+fn as_col(rhs: &mut [f64]) -> MatMut<'_, f64> {
+    let n = rhs.len();
+    MatMut::from_column_major_slice_mut(rhs, n, 1)
+}
+
+/// Sparse Cholesky (LLᵀ) of a symmetric positive definite matrix.
+#[derive(Debug)]
+pub struct CholeskySolver {
+    pattern: std::sync::Arc<SparsityPattern>,
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    factorised: bool,
+}
+
+impl CholeskySolver {
+    /// Symbolic analysis (AMD ordering, elimination tree, supernodes).
+    pub fn analyse(pattern: std::sync::Arc<SparsityPattern>) -> Result<Self, FemError> {
+        let symbolic = factorize_symbolic_cholesky(
+            symbolic_view(&pattern),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| FemError::Solver(format!("{e:?}")))?;
+        let l_values = vec![0.0; symbolic.len_val()];
+        Ok(CholeskySolver {
+            pattern,
+            symbolic,
+            l_values,
+            factorised: false,
+        })
+    }
+
+    /// Number of stored entries in the factor.
+    pub fn factor_nnz(&self) -> usize {
+        self.l_values.len()
+    }
+
+    /// Numeric factorisation of `matrix` (same pattern as analysed).
+    pub fn factorise(&mut self, matrix: &CsrMatrix) -> Result<(), FemError> {
+        if **matrix.pattern() != *self.pattern {
+            return Err(FemError::Solver(
+                "matrix pattern differs from the analysed one".into(),
+            ));
+        }
+        check_finite("matrix", matrix.values())?;
+        self.factorised = false;
+        let p = par();
+        let sym = symbolic_view(&self.pattern);
+        let a = SparseColMatRef::new(sym, matrix.values());
+        let req = self
+            .symbolic
+            .factorize_numeric_llt_scratch::<f64>(p, Default::default());
+        let mut mem = MemBuffer::try_new(req)
+            .map_err(|_| FemError::Solver("out of memory for factorisation scratch".into()))?;
+        let res = self.symbolic.factorize_numeric_llt(
+            &mut self.l_values,
+            a,
+            Side::Lower,
+            LltRegularization::default(),
+            p,
+            MemStack::new(&mut mem),
+            Default::default(),
+        );
+        match res {
+            Ok(_) => {
+                self.factorised = true;
+                Ok(())
+            }
+            Err(e) => {
+                let faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot {
+                    index: pivot,
+                } = e;
+                let dof = self
+                    .symbolic
+                    .perm()
+                    .map(|perm| perm.arrays().0[pivot])
+                    .unwrap_or(pivot);
+                Err(FemError::NotPositiveDefinite {
+                    pivot,
+                    dof,
+                    hint: "check for an unconstrained body or an indefinite tangent (use LU)"
+                        .into(),
+                })
+            }
+        }
+    }
+
+    /// Solves A x = b in place (b ← x).
+    pub fn solve(&self, rhs: &mut [f64]) -> Result<(), FemError> {
+        if !self.factorised {
+            return Err(FemError::NotFactorised);
+        }
+        if rhs.len() != self.pattern.n() {
+            return Err(FemError::LengthMismatch {
+                what: "right-hand side".into(),
+                got: rhs.len(),
+                expected: self.pattern.n(),
+            });
+        }
+        let p = par();
+        let req = self.symbolic.solve_in_place_scratch::<f64>(1, p);
+        let mut mem = MemBuffer::new(req);
+        let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
+        llt.solve_in_place_with_conj(Conj::No, as_col(rhs), p, MemStack::new(&mut mem));
+        check_finite("solution", rhs)
+    }
+}
+
+/// Sparse LU with partial pivoting of a general square matrix.
+#[derive(Debug)]
+pub struct LuSolver {
+    pattern: std::sync::Arc<SparsityPattern>,
+    symbolic: SymbolicLu<usize>,
+    numeric: NumericLu<usize, f64>,
+    factorised: bool,
+}
+
+impl LuSolver {
+    /// Symbolic analysis (COLAMD ordering).
+    pub fn analyse(pattern: std::sync::Arc<SparsityPattern>) -> Result<Self, FemError> {
+        let symbolic = factorize_symbolic_lu(symbolic_view(&pattern), Default::default())
+            .map_err(|e| FemError::Solver(format!("{e:?}")))?;
+        Ok(LuSolver {
+            pattern,
+            symbolic,
+            numeric: NumericLu::new(),
+            factorised: false,
+        })
+    }
+
+    /// Numeric factorisation of `matrix`.
+    pub fn factorise(&mut self, matrix: &CsrMatrix) -> Result<(), FemError> {
+        if **matrix.pattern() != *self.pattern {
+            return Err(FemError::Solver(
+                "matrix pattern differs from the analysed one".into(),
+            ));
+        }
+        check_finite("matrix", matrix.values())?;
+        self.factorised = false;
+        let p = par();
+        let sym = symbolic_view(&self.pattern);
+        let a = SparseColMatRef::new(sym, matrix.values());
+        let req = self
+            .symbolic
+            .factorize_numeric_lu_scratch::<f64>(p, Default::default());
+        let mut mem = MemBuffer::try_new(req)
+            .map_err(|_| FemError::Solver("out of memory for factorisation scratch".into()))?;
+        self.symbolic
+            .factorize_numeric_lu(
+                &mut self.numeric,
+                a,
+                p,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| match e {
+                faer::sparse::linalg::LuError::SymbolicSingular { index } => FemError::Singular {
+                    detail: format!("no pivot found at step {index} (structurally singular)"),
+                },
+                other => FemError::Solver(format!("{other:?}")),
+            })?;
+        self.factorised = true;
+        Ok(())
+    }
+
+    /// Solves A x = b in place (b ← x). The stored CSC matrix is Aᵀ, so
+    /// this uses the transposed solve.
+    pub fn solve(&self, rhs: &mut [f64]) -> Result<(), FemError> {
+        if !self.factorised {
+            return Err(FemError::NotFactorised);
+        }
+        if rhs.len() != self.pattern.n() {
+            return Err(FemError::LengthMismatch {
+                what: "right-hand side".into(),
+                got: rhs.len(),
+                expected: self.pattern.n(),
+            });
+        }
+        let p = par();
+        let req = self.symbolic.solve_transpose_in_place_scratch::<f64>(1, p);
+        let mut mem = MemBuffer::new(req);
+        // `factorise` filled `numeric` from this `symbolic`.
+        let lu = LuRef::new_unchecked(&self.symbolic, &self.numeric);
+        lu.solve_transpose_in_place_with_conj(Conj::No, as_col(rhs), p, MemStack::new(&mut mem));
+        check_finite("solution (the matrix is singular)", rhs)
+    }
+}
+
+/// Relative residual ‖b − A x‖ / ‖b‖ (∞-norms), for checks after a solve.
+pub fn relative_residual(matrix: &CsrMatrix, x: &[f64], b: &[f64]) -> f64 {
+    let mut ax = vec![0.0; b.len()];
+    matrix.mul_vec(x, &mut ax);
+    let r = ax
+        .iter()
+        .zip(b)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let nb = b.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    if nb == 0.0 { r } else { r / nb }
+}

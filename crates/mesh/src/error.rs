@@ -1,0 +1,188 @@
+//! Typed errors of the mesh crate.
+
+use std::path::PathBuf;
+
+/// Everything that can be wrong with a mesh, its sets or its files.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum MeshError {
+    /// A triangle with (numerically) zero area.
+    #[error("triangle {element} has zero area ({area:.3e}); nodes {nodes:?}")]
+    DegenerateTriangle {
+        /// Element index (0-based).
+        element: usize,
+        /// Signed area.
+        area: f64,
+        /// Its node ids.
+        nodes: [usize; 3],
+    },
+    /// An element refers to a node that does not exist.
+    #[error("{what} {element} refers to node {node}, but the mesh has {n_nodes} nodes")]
+    NodeOutOfRange {
+        /// "triangle", "edge set 'x'", ...
+        what: String,
+        /// Index of the element or edge within its list.
+        element: usize,
+        /// The bad node id.
+        node: usize,
+        /// Number of nodes.
+        n_nodes: usize,
+    },
+    /// Two nodes of one body sit at the same point.
+    #[error(
+        "nodes {a} and {b} coincide at ({x}, {y}) in body '{body}' (coincident nodes are only allowed across an interface between two bodies)"
+    )]
+    DuplicateNodes {
+        /// First node.
+        a: usize,
+        /// Second node.
+        b: usize,
+        /// x coordinate.
+        x: f64,
+        /// y coordinate.
+        y: f64,
+        /// Body containing both.
+        body: String,
+    },
+    /// A node that no triangle uses.
+    #[error("node {node} at ({x}, {y}) is used by no triangle")]
+    OrphanNode {
+        /// The node.
+        node: usize,
+        /// x coordinate.
+        x: f64,
+        /// y coordinate.
+        y: f64,
+    },
+    /// A node coordinate that is NaN or infinite.
+    #[error("node {node} has a non-finite coordinate ({x}, {y})")]
+    NonFiniteCoordinate {
+        /// The node.
+        node: usize,
+        /// x coordinate.
+        x: f64,
+        /// y coordinate.
+        y: f64,
+    },
+    /// A name that was looked up but does not exist.
+    #[error("the mesh has no {kind} named '{name}' (it has: {available})")]
+    UnknownName {
+        /// "region", "edge set", "node set", "interface".
+        kind: &'static str,
+        /// The missing name.
+        name: String,
+        /// Comma-separated list of the names that exist.
+        available: String,
+    },
+    /// An edge of an edge set that is not an edge of any triangle.
+    #[error("edge set '{set}': edge ({a}, {b}) is not an edge of any triangle")]
+    EdgeNotInMesh {
+        /// Edge set name.
+        set: String,
+        /// First node.
+        a: usize,
+        /// Second node.
+        b: usize,
+    },
+    /// Interface edges whose nodes do not face each other.
+    #[error(
+        "interface '{interface}': node {bottom} at ({x}, {y}) on '{bottom_set}' has no facing node on '{top_set}' within {tolerance:.3e}"
+    )]
+    InterfaceNotFacing {
+        /// Interface name.
+        interface: String,
+        /// Bottom edge set.
+        bottom_set: String,
+        /// Top edge set.
+        top_set: String,
+        /// The bottom node without a partner.
+        bottom: usize,
+        /// x coordinate.
+        x: f64,
+        /// y coordinate.
+        y: f64,
+        /// Distance tolerance used.
+        tolerance: f64,
+    },
+    /// Interface edge pair whose top edge is missing from the top set.
+    #[error(
+        "interface '{interface}': bottom edge ({a}, {b}) faces nodes ({c}, {d}), which are not an edge of '{top_set}'"
+    )]
+    InterfaceEdgeMissing {
+        /// Interface name.
+        interface: String,
+        /// Top edge set name.
+        top_set: String,
+        /// Bottom edge nodes.
+        a: usize,
+        /// Bottom edge nodes.
+        b: usize,
+        /// Facing top nodes.
+        c: usize,
+        /// Facing top nodes.
+        d: usize,
+    },
+    /// An interface whose two faces belong to the same body.
+    #[error(
+        "interface '{interface}': edge ({a}, {b}) and its facing edge lie in the same body '{body}'; an interface joins two separate bodies"
+    )]
+    InterfaceWithinBody {
+        /// Interface name.
+        interface: String,
+        /// Bottom edge node.
+        a: usize,
+        /// Bottom edge node.
+        b: usize,
+        /// The body.
+        body: String,
+    },
+    /// A generator parameter that makes no sense.
+    #[error("invalid mesh parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Its value as text.
+        value: String,
+        /// Why it is rejected.
+        reason: String,
+    },
+    /// A mesh file that could not be read.
+    #[error("{path}: {message}")]
+    Io {
+        /// File.
+        path: PathBuf,
+        /// OS message.
+        message: String,
+    },
+    /// A Gmsh file that could not be parsed.
+    #[error("{path}: {location}: {message}")]
+    MshParse {
+        /// File.
+        path: PathBuf,
+        /// "line N" (ASCII) or "byte offset N" (binary).
+        location: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// A Gmsh element type Tecon does not take.
+    #[error(
+        "{path}: element type {type_name} (Gmsh type {type_id}) on entity {entity} is not supported; Tecon takes 3-node triangles and 2-node lines (and ignores points)"
+    )]
+    UnsupportedElement {
+        /// File.
+        path: PathBuf,
+        /// Gmsh type name.
+        type_name: String,
+        /// Gmsh type number.
+        type_id: u32,
+        /// Entity tag.
+        entity: i32,
+    },
+    /// Other semantic problems in a Gmsh file.
+    #[error("{path}: {message}")]
+    MshContent {
+        /// File.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+}

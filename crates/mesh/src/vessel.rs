@@ -1,0 +1,315 @@
+//! The welded monolayer vessel: half cross-section mesh generator.
+//!
+//! ```text
+//!            y
+//!            ^      layer (+ weld near θ = 0)
+//!            |   .-~~~~~~-.
+//!            | /  .-~~~~-. \     core
+//!   sym180 --+-|-|--------|-|--> x   sym0 (θ = 0, weld centre)
+//!           θ = π       r_i  r_o
+//! ```
+//!
+//! Core and layer are separate bodies with their own nodes on the interface
+//! (radius `r_c`), joined by the interface `core_layer` (bottom = core).
+//! The weld is the layer sector 0 ≤ θ ≤ θ_w, θ_w = w/2 / r_mid(layer).
+
+use crate::error::MeshError;
+use crate::mesh::{Mesh, signed_area};
+
+/// Dimensions of the vessel cross-section (SI units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VesselGeometry {
+    /// Inner radius of the core, m.
+    pub inner_radius: f64,
+    /// Core wall thickness, m.
+    pub core_thickness: f64,
+    /// Layer thickness, m.
+    pub layer_thickness: f64,
+    /// Half width of the weld (measured along the layer's mid-radius), m.
+    pub weld_half_width: f64,
+}
+
+impl Default for VesselGeometry {
+    /// The published vessel: r_i = 0.762 m, core 12.7 mm, layer 6.4 mm, weld 7.6 mm wide.
+    fn default() -> Self {
+        VesselGeometry {
+            inner_radius: 0.762,
+            core_thickness: 0.0127,
+            layer_thickness: 0.0064,
+            weld_half_width: 0.0038,
+        }
+    }
+}
+
+impl VesselGeometry {
+    /// Core/layer interface radius.
+    pub fn interface_radius(&self) -> f64 {
+        self.inner_radius + self.core_thickness
+    }
+
+    /// Outer radius.
+    pub fn outer_radius(&self) -> f64 {
+        self.interface_radius() + self.layer_thickness
+    }
+
+    /// Half angle of the weld sector, rad.
+    pub fn weld_half_angle(&self) -> f64 {
+        self.weld_half_width / (self.interface_radius() + 0.5 * self.layer_thickness)
+    }
+}
+
+/// Mesh density of the vessel model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VesselMeshSpec {
+    /// Element rows through the core.
+    pub core_rows: usize,
+    /// Element rows through the layer.
+    pub layer_rows: usize,
+    /// Node stations around the half circumference (θ = 0 … π), both ends included.
+    pub stations: usize,
+    /// Element intervals across the weld half width.
+    pub weld_divisions: usize,
+    /// Size of the first interval outside the weld relative to one weld interval;
+    /// the intervals then grow geometrically toward θ = π.
+    pub first_ratio: f64,
+    /// Fuse the weld to the core (no interface under the weld).
+    pub fused_weld: bool,
+}
+
+impl VesselMeshSpec {
+    /// The density of the published model: 18 stations, two rows through each
+    /// body: 108 nodes, 136 triangles, 17 interface elements.
+    pub fn paper() -> Self {
+        VesselMeshSpec {
+            core_rows: 2,
+            layer_rows: 2,
+            stations: 18,
+            weld_divisions: 1,
+            first_ratio: 1.5,
+            fused_weld: false,
+        }
+    }
+
+    /// Refinement level `level` of the paper mesh: every interval halved `level`
+    /// times (136·4^level triangles; level 7 has 2.2·10⁶).
+    pub fn refined(level: u32) -> Result<Self, MeshError> {
+        if level > 9 {
+            return Err(MeshError::InvalidParameter {
+                name: "level",
+                value: level.to_string(),
+                reason: "refinement levels 0..=9 are offered (level 9 has 3.6e7 triangles)".into(),
+            });
+        }
+        let f = 1usize << level;
+        Ok(VesselMeshSpec {
+            core_rows: 2 * f,
+            layer_rows: 2 * f,
+            stations: 17 * f + 1,
+            weld_divisions: f,
+            ..Self::paper()
+        })
+    }
+
+    /// Number of triangles this spec produces.
+    pub fn n_triangles(&self) -> usize {
+        2 * (self.stations.saturating_sub(1)) * (self.core_rows + self.layer_rows)
+    }
+}
+
+/// Station angles θ_0 = 0 < … < θ_{m} = π: uniform across the weld, then
+/// geometric growth.
+pub fn station_angles(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Vec<f64> {
+    let tw = geo.weld_half_angle();
+    let nw = spec.weld_divisions;
+    let m = spec.stations - 1 - nw;
+    let mut out: Vec<f64> = (0..=nw).map(|i| tw * i as f64 / nw as f64).collect();
+    let rest = std::f64::consts::PI - tw;
+    let h1 = spec.first_ratio * tw / nw as f64;
+    let q = if h1 * m as f64 >= rest {
+        1.0
+    } else {
+        // h1 (q^m - 1)/(q - 1) = rest, solved by bisection on q in (1, 2^(64/m)).
+        let f = |q: f64| h1 * (q.powi(m as i32) - 1.0) / (q - 1.0) - rest;
+        let (mut lo, mut hi) = (1.0 + 1e-12, 2.0_f64);
+        while f(hi) < 0.0 {
+            hi *= 2.0;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if f(mid) < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    };
+    let mut h = if q == 1.0 { rest / m as f64 } else { h1 };
+    let mut t = tw;
+    for k in 0..m {
+        t += h;
+        h *= q;
+        out.push(if k + 1 == m { std::f64::consts::PI } else { t });
+    }
+    out
+}
+
+/// Generates the half cross-section mesh of the welded vessel.
+///
+/// Regions `core`, `layer`, `weld`; edge sets `inner`, `outer`, `core_outer`,
+/// `layer_inner`, `sym0`, `sym180`; node sets `sym0`, `sym180`; interface
+/// `core_layer` (bottom `core_outer`, top `layer_inner`).
+pub fn vessel_mesh(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<Mesh, MeshError> {
+    check_spec(geo, spec)?;
+    let theta = station_angles(geo, spec);
+    let ns = spec.stations;
+    let (ri, rc, ro) = (geo.inner_radius, geo.interface_radius(), geo.outer_radius());
+    let (nc, nl, nw) = (spec.core_rows, spec.layer_rows, spec.weld_divisions);
+    let mut nodes = Vec::with_capacity(ns * (nc + nl + 2));
+    // core(i, j): j = 0 … nc radially.
+    let core_id = |i: usize, j: usize| i * (nc + 1) + j;
+    for &t in &theta {
+        for j in 0..=nc {
+            let r = ri + (rc - ri) * j as f64 / nc as f64;
+            nodes.push([r * t.cos(), r * t.sin()]);
+        }
+    }
+    // layer(i, j): j = 0 … nl; with a fused weld, layer(i, 0) for i ≤ nw is core(i, nc).
+    let fused = |i: usize| spec.fused_weld && i <= nw;
+    let mut layer_ids = vec![usize::MAX; ns * (nl + 1)];
+    for (i, &t) in theta.iter().enumerate() {
+        for j in 0..=nl {
+            layer_ids[i * (nl + 1) + j] = if j == 0 && fused(i) {
+                core_id(i, nc)
+            } else {
+                let r = rc + (ro - rc) * j as f64 / nl as f64;
+                nodes.push([r * t.cos(), r * t.sin()]);
+                nodes.len() - 1
+            };
+        }
+    }
+    let layer_id = |i: usize, j: usize| layer_ids[i * (nl + 1) + j];
+    let mut tris = Vec::with_capacity(spec.n_triangles());
+    let mut region = Vec::with_capacity(spec.n_triangles());
+    let mut push_quad =
+        |a: usize, b: usize, c: usize, d: usize, flip: bool, reg: usize, nodes: &Vec<[f64; 2]>| {
+            // quad a-b-c-d in order around; split along a-c or b-d
+            let pair = if flip {
+                [[a, b, c], [a, c, d]]
+            } else {
+                [[a, b, d], [b, c, d]]
+            };
+            for mut t in pair {
+                if signed_area(nodes[t[0]], nodes[t[1]], nodes[t[2]]) < 0.0 {
+                    t.swap(1, 2);
+                }
+                tris.push(t);
+                region.push(reg);
+            }
+        };
+    for i in 0..ns - 1 {
+        for j in 0..nc {
+            let (a, b, c, d) = (
+                core_id(i, j),
+                core_id(i + 1, j),
+                core_id(i + 1, j + 1),
+                core_id(i, j + 1),
+            );
+            push_quad(a, b, c, d, (i + j) % 2 == 1, 0, &nodes);
+        }
+        for j in 0..nl {
+            let (a, b, c, d) = (
+                layer_id(i, j),
+                layer_id(i + 1, j),
+                layer_id(i + 1, j + 1),
+                layer_id(i, j + 1),
+            );
+            let reg = if i < nw { 2 } else { 1 };
+            push_quad(a, b, c, d, (i + j) % 2 == 1, reg, &nodes);
+        }
+    }
+    let mut mesh = Mesh::new(
+        nodes,
+        tris,
+        region,
+        vec!["core".into(), "layer".into(), "weld".into()],
+    )?;
+    let ring = |f: &dyn Fn(usize) -> usize, from: usize| -> Vec<[usize; 2]> {
+        (from..ns - 1).map(|i| [f(i), f(i + 1)]).collect()
+    };
+    let first_free = if spec.fused_weld { nw } else { 0 };
+    mesh.add_edge_set("inner", ring(&|i| core_id(i, 0), 0))?;
+    mesh.add_edge_set("outer", ring(&|i| layer_id(i, nl), 0))?;
+    mesh.add_edge_set("core_outer", ring(&|i| core_id(i, nc), first_free))?;
+    mesh.add_edge_set("layer_inner", ring(&|i| layer_id(i, 0), first_free))?;
+    for (name, i) in [("sym0", 0), ("sym180", ns - 1)] {
+        let mut edges: Vec<[usize; 2]> = (0..nc)
+            .map(|j| [core_id(i, j), core_id(i, j + 1)])
+            .collect();
+        edges.extend((0..nl).map(|j| [layer_id(i, j), layer_id(i, j + 1)]));
+        let mut set: Vec<usize> = edges.iter().flatten().copied().collect();
+        set.sort_unstable();
+        set.dedup();
+        mesh.add_edge_set(name, edges)?;
+        mesh.add_node_set(name, set)?;
+    }
+    if first_free < ns - 1 {
+        mesh.add_interface("core_layer", "core_outer", "layer_inner", None)?;
+    }
+    Ok(mesh)
+}
+
+fn check_spec(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<(), MeshError> {
+    let bad = |name: &'static str, value: String, reason: &str| {
+        Err(MeshError::InvalidParameter {
+            name,
+            value,
+            reason: reason.into(),
+        })
+    };
+    for (name, v) in [
+        ("inner_radius", geo.inner_radius),
+        ("core_thickness", geo.core_thickness),
+        ("layer_thickness", geo.layer_thickness),
+        ("weld_half_width", geo.weld_half_width),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return bad(name, v.to_string(), "must be a positive length");
+        }
+    }
+    if geo.weld_half_angle() >= 0.5 * std::f64::consts::PI {
+        return bad(
+            "weld_half_width",
+            geo.weld_half_width.to_string(),
+            "the weld must span less than a quarter of the circumference",
+        );
+    }
+    if spec.core_rows == 0 {
+        return bad("core_rows", "0".into(), "at least one element row");
+    }
+    if spec.layer_rows == 0 {
+        return bad("layer_rows", "0".into(), "at least one element row");
+    }
+    if spec.weld_divisions == 0 {
+        return bad(
+            "weld_divisions",
+            "0".into(),
+            "at least one interval across the weld",
+        );
+    }
+    if spec.stations < spec.weld_divisions + 2 {
+        return bad(
+            "stations",
+            spec.stations.to_string(),
+            "needs at least weld_divisions + 2 stations (one interval outside the weld)",
+        );
+    }
+    if !(spec.first_ratio.is_finite() && spec.first_ratio > 0.0) {
+        return bad(
+            "first_ratio",
+            spec.first_ratio.to_string(),
+            "must be positive",
+        );
+    }
+    Ok(())
+}
