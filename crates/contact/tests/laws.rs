@@ -1,0 +1,445 @@
+//! # Contact laws: values, consistent tangents, history, errors
+//!
+//! Reference: DESIGN.md §2 "Contact laws" (Ghaboussi–Wilson–Witherspoon
+//! three-stage normal law; Mohr–Coulomb elastic–perfectly plastic
+//! tangential law), and the return-mapping algorithm for perfect
+//! plasticity (Simo & Hughes, *Computational Inelasticity*, ch. 1, 1D case).
+//!
+//! Goal: every law returns the traction of its defining formula, a tangent
+//! equal to the finite-difference derivative of its traction (away from
+//! kinks), and the history behaviour of friction.
+//!
+//! Sketch (Mohr–Coulomb in the (σ, τ) plane):
+//!
+//! ```text
+//!          τ
+//!          │   slip  ╱  τ = c + σ_c tan φ
+//!          │       ╱
+//!          │     ╱  stick
+//!   ───────┼───╱─────────────────── σ   (σ > 0 tension)
+//!      σ_c │ ╲  apex σ = c/tan φ (tension cut-off)
+//! ```
+//!
+//! Checked:
+//! * FD tangents (central differences, relative error ≤ 1e-7) for the linear
+//!   joint, both normal laws in every stage, the elastic joint and the
+//!   Mohr–Coulomb joint in stick and in slip (non-symmetric), on random
+//!   points (proptest) that are not within one FD step of a kink;
+//! * Mohr–Coulomb: stick below the limit, traction on the limit while
+//!   slipping, irreversible slip on unloading, zero traction when open,
+//!   cohesion, tension cut-off at the apex;
+//! * augmented-Lagrangian multiplier update; typed parameter errors.
+
+use approx::assert_relative_eq;
+use proptest::prelude::*;
+use tecon_contact::nalgebra::{Matrix2, Vector2};
+use tecon_contact::{
+    ContactLaw, ContactStatus, ElasticJoint, GhaboussiNormal, JointState, LawError, LinearJoint,
+    LinearNormal, MohrCoulomb, NormalLaw, NormalStage, PaperJoint, default_penalty,
+};
+
+const K: f64 = 1.0e12; // typical penalty, Pa/m
+const FD_TOL: f64 = 1.0e-7;
+
+/// Central-difference tangent of `law` at `jump` with committed `state`.
+fn fd_tangent<L: ContactLaw>(law: &L, jump: &Vector2<f64>, state: &L::State, h: f64) -> Matrix2<f64> {
+    let mut c = Matrix2::zeros();
+    for k in 0..2 {
+        let mut e = Vector2::zeros();
+        e[k] = h;
+        let tp = law.evaluate(&(jump + e), state).traction;
+        let tm = law.evaluate(&(jump - e), state).traction;
+        c.set_column(k, &((tp - tm) / (2.0 * h)));
+    }
+    c
+}
+
+/// Relative FD error `‖C − C_fd‖ / max(‖C‖, k_ref)`.
+fn fd_error<L: ContactLaw>(law: &L, jump: &Vector2<f64>, state: &L::State, h: f64, k_ref: f64) -> f64 {
+    let c = law.evaluate(jump, state).tangent;
+    let c_fd = fd_tangent(law, jump, state, h);
+    (c - c_fd).norm() / c.norm().max(k_ref)
+}
+
+/// "Regime" of a law response, to skip points within one FD step of a kink.
+fn same_regime<N: NormalLaw>(law: &MohrCoulomb<N>, jump: &Vector2<f64>, state: &JointState, h: f64) -> bool {
+    let regime = |j: Vector2<f64>| {
+        let r = law.evaluate(&j, state);
+        let nr = law.normal_law().normal(j.y, state.lambda_n);
+        (r.status, nr.stage, law.strength(nr.sigma) > 0.0, r.traction.x >= 0.0)
+    };
+    let r0 = regime(*jump);
+    [Vector2::new(h, 0.0), Vector2::new(0.0, h)]
+        .iter()
+        .all(|e| regime(jump + e) == r0 && regime(jump - e) == r0)
+}
+
+fn rough_ghaboussi() -> GhaboussiNormal {
+    // E = 2e9 Pa, E_f = 2e11 Pa, t = 1 mm, crushing to ε_n^c = −1e-3.
+    GhaboussiNormal::new(2.0e9, 2.0e11, 1.0e-3, -1.0e-3).unwrap()
+}
+
+#[test]
+fn linear_joint_values_and_tangent() {
+    let law = LinearJoint::new(3.0e11, 7.0e11).unwrap();
+    let j = Vector2::new(2.0e-6, -1.0e-6);
+    let r = law.evaluate(&j, &());
+    assert_relative_eq!(r.traction, Vector2::new(6.0e5, -7.0e5), max_relative = 1e-15);
+    assert_eq!(r.status, ContactStatus::Stick);
+    // Bonded: tension too.
+    let r = law.evaluate(&Vector2::new(0.0, 1.0e-6), &());
+    assert_relative_eq!(r.traction.y, 7.0e5, max_relative = 1e-15);
+    let e = fd_error(&law, &j, &(), 1e-12, 0.0);
+    println!("linear joint FD tangent error {e:.2e}");
+    assert!(e < FD_TOL, "{e}");
+}
+
+#[test]
+fn ghaboussi_three_stages() {
+    let g = rough_ghaboussi();
+    let (e, e_f, t, eps_c) = (2.0e9, 2.0e11, 1.0e-3, -1.0e-3);
+    // Separation.
+    let r = g.normal(0.5e-6, 0.0);
+    assert_eq!((r.sigma, r.stiffness, r.stage), (0.0, 0.0, NormalStage::Separation));
+    // Crushing: σ = E ε_n.
+    let du = -0.4e-6;
+    let r = g.normal(du, 0.0);
+    assert_eq!(r.stage, NormalStage::Crushing);
+    assert_relative_eq!(r.sigma, e * du / t, max_relative = 1e-14);
+    assert_relative_eq!(r.stiffness, e / t, max_relative = 1e-14);
+    // Contact: σ = E ε^c + E_f (ε − ε^c).
+    let du = -1.3e-6;
+    let r = g.normal(du, 0.0);
+    assert_eq!(r.stage, NormalStage::Contact);
+    assert_relative_eq!(r.sigma, e * eps_c + e_f * (du / t - eps_c), max_relative = 1e-14);
+    assert_relative_eq!(r.stiffness, e_f / t, max_relative = 1e-14);
+    // Continuous at both stage boundaries.
+    for b in [0.0, t * eps_c] {
+        // A discontinuity would be at least E |ε_n^c| = 2 MPa; the slopes
+        // bound the change over the 2d-wide bracket.
+        let d = 1e-15;
+        let (lo, hi) = (g.normal(b - d, 0.0), g.normal(b + d, 0.0));
+        let bound = 2.0 * d * (g.contact_stiffness() + g.crushing_stiffness());
+        assert!((lo.sigma - hi.sigma).abs() <= bound, "jump at {b}: {} vs {}", lo.sigma, hi.sigma);
+    }
+    // Smooth surfaces: no crushing stage.
+    let s = GhaboussiNormal::smooth(2.0e11, 1.0e-3).unwrap();
+    assert_eq!(s.normal(-1e-9, 0.0).stage, NormalStage::Contact);
+    assert_relative_eq!(s.normal(-1e-9, 0.0).sigma, -2.0e11 / 1.0e-3 * 1e-9, max_relative = 1e-14);
+}
+
+#[test]
+fn normal_law_fd_tangent_in_every_stage() {
+    let g = rough_ghaboussi();
+    let lin = LinearNormal::new(5.0e11).unwrap();
+    let mut worst: f64 = 0.0;
+    for (du, lambda, stage) in [
+        (0.3e-6, 0.0, NormalStage::Separation),
+        (-0.5e-6, 0.0, NormalStage::Crushing),
+        (-1.7e-6, 0.0, NormalStage::Contact),
+        (-0.2e-6, 2.0e8, NormalStage::Contact), // multiplier extends contact
+    ] {
+        let h = 1e-12;
+        let r = g.normal(du, lambda);
+        assert_eq!(r.stage, stage);
+        let fd = (g.normal(du + h, lambda).sigma - g.normal(du - h, lambda).sigma) / (2.0 * h);
+        let err = (fd - r.stiffness).abs() / g.contact_stiffness();
+        worst = worst.max(err);
+        assert!(err < FD_TOL, "{stage:?}: {fd} vs {}", r.stiffness);
+    }
+    let fd = (lin.normal(1e-6 + 1e-12, 3.0).sigma - lin.normal(1e-6 - 1e-12, 3.0).sigma) / 2e-12;
+    let err = (fd - 5.0e11).abs() / 5.0e11;
+    worst = worst.max(err);
+    assert!(err < FD_TOL);
+    println!("normal laws FD tangent error (worst) {worst:.2e}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Mohr–Coulomb with a rough Ghaboussi normal law, random jumps, slips
+    /// and multipliers: tangent = FD tangent wherever no kink is near.
+    #[test]
+    fn mohr_coulomb_ghaboussi_fd_tangent(
+        dut in -4.0e-6..4.0e-6_f64,
+        dun in -3.0e-6..1.0e-6_f64,
+        slip in -3.0e-6..3.0e-6_f64,
+        lambda in prop_oneof![Just(0.0), 0.0..2.0e6_f64],
+        c in prop_oneof![Just(0.0), 0.0..2.0e6_f64],
+        phi_deg in 0.0..60.0_f64,
+    ) {
+        let law = MohrCoulomb::new(rough_ghaboussi(), 3.0e11, c, phi_deg.to_radians()).unwrap();
+        let state = JointState { slip, accumulated_slip: 0.0, lambda_n: lambda };
+        let j = Vector2::new(dut, dun);
+        let h = 1e-13;
+        prop_assume!(same_regime(&law, &j, &state, 10.0 * h));
+        let e = fd_error(&law, &j, &state, h, law.k_s());
+        prop_assert!(e < FD_TOL, "error {e:e} at {j:?} {state:?}");
+    }
+
+    /// Mohr–Coulomb with a bilateral normal spring (tension allowed): the
+    /// strength decreases in tension down to the apex.
+    #[test]
+    fn mohr_coulomb_linear_normal_fd_tangent(
+        dut in -4.0e-6..4.0e-6_f64,
+        dun in -3.0e-6..3.0e-6_f64,
+        slip in -3.0e-6..3.0e-6_f64,
+        c in 0.0..2.0e6_f64,
+        phi_deg in 0.0..60.0_f64,
+    ) {
+        let law = MohrCoulomb::new(LinearNormal::new(1.0e12).unwrap(), 3.0e11, c, phi_deg.to_radians()).unwrap();
+        let state = JointState { slip, ..Default::default() };
+        let j = Vector2::new(dut, dun);
+        let h = 1e-13;
+        prop_assume!(same_regime(&law, &j, &state, 10.0 * h));
+        let e = fd_error(&law, &j, &state, h, law.k_s());
+        prop_assert!(e < FD_TOL, "error {e:e} at {j:?} {state:?}");
+    }
+}
+
+#[test]
+fn slipping_tangent_is_non_symmetric_and_matches_fd() {
+    let phi = 30f64.to_radians();
+    let law = MohrCoulomb::new(rough_ghaboussi(), 3.0e11, 0.5e6, phi).unwrap();
+    let state = JointState::default();
+    // Contact stage, large forward shear: slipping.
+    let j = Vector2::new(500.0e-6, -1.6e-6);
+    let r = law.evaluate(&j, &state);
+    assert_eq!(r.status, ContactStatus::Slip);
+    let k_n = law.normal_law().normal(j.y, 0.0).stiffness;
+    // ∂τ/∂Δu_t = 0, ∂τ/∂Δu_n = −tan φ k_n (more pressure → more strength).
+    assert_eq!(r.tangent[(0, 0)], 0.0);
+    assert_relative_eq!(r.tangent[(0, 1)], -phi.tan() * k_n, max_relative = 1e-14);
+    assert_eq!(r.tangent[(1, 0)], 0.0);
+    assert!((r.tangent - r.tangent.transpose()).norm() > 0.1 * k_n);
+    let e_fwd = fd_error(&law, &j, &state, 1e-13, law.k_s());
+    // Backward slip flips the sign of the coupling term.
+    let jb = Vector2::new(-20.0e-6, -0.5e-6); // crushing stage
+    let rb = law.evaluate(&jb, &state);
+    assert_eq!(rb.status, ContactStatus::Slip);
+    assert_relative_eq!(rb.tangent[(0, 1)], phi.tan() * law.normal_law().crushing_stiffness(), max_relative = 1e-14);
+    let e_bwd = fd_error(&law, &jb, &state, 1e-13, law.k_s());
+    println!("Mohr-Coulomb slipping FD tangent error: forward {e_fwd:.2e}, backward {e_bwd:.2e}");
+    assert!(e_fwd < FD_TOL && e_bwd < FD_TOL, "{e_fwd} {e_bwd}");
+    // Stick tangent is diagonal and matches FD too.
+    let js = Vector2::new(1.0e-7, -1.6e-6);
+    let rs = law.evaluate(&js, &state);
+    assert_eq!(rs.status, ContactStatus::Stick);
+    assert_eq!(rs.tangent, Matrix2::new(law.k_s(), 0.0, 0.0, k_n));
+    let e_stick = fd_error(&law, &js, &state, 1e-13, law.k_s());
+    println!("Mohr-Coulomb stick FD tangent error {e_stick:.2e}");
+    assert!(e_stick < FD_TOL);
+}
+
+#[test]
+fn elastic_joint_fd_and_open_release() {
+    let law = ElasticJoint::new(rough_ghaboussi(), 3.0e11).unwrap();
+    let s = JointState::default();
+    for j in [Vector2::new(1e-6, -0.5e-6), Vector2::new(-2e-6, -1.5e-6)] {
+        let r = law.evaluate(&j, &s);
+        assert_eq!(r.status, ContactStatus::Stick);
+        assert_relative_eq!(r.traction.x, 3.0e11 * j.x, max_relative = 1e-14);
+        let e = fd_error(&law, &j, &s, 1e-13, law.k_s());
+        assert!(e < FD_TOL, "{e}");
+    }
+    // Separation stage: k_n = k_s = 0 and zero traction.
+    let r = law.evaluate(&Vector2::new(5e-6, 1e-7), &s);
+    assert_eq!(r.status, ContactStatus::Open);
+    assert_eq!(r.traction, Vector2::zeros());
+    assert_eq!(r.tangent, Matrix2::zeros());
+}
+
+fn friction_law(c: f64, phi_deg: f64) -> PaperJoint {
+    PaperJoint::new(GhaboussiNormal::penalty(K).unwrap(), K, c, phi_deg.to_radians()).unwrap()
+}
+
+#[test]
+fn stick_below_the_limit_and_on_the_limit_when_slipping() {
+    let (c, phi) = (0.2e6, 25.0_f64);
+    let law = friction_law(c, phi);
+    let dun = -2.0e-6; // σ_c = 2 MPa
+    let limit = c + 2.0e6 * phi.to_radians().tan();
+    let s0 = JointState::default();
+    for frac in [-0.99, -0.5, 0.0, 0.3, 0.99] {
+        let dut = frac * limit / K;
+        let r = law.evaluate(&Vector2::new(dut, dun), &s0);
+        assert_eq!(r.status, ContactStatus::Stick);
+        assert_relative_eq!(r.traction.x, K * dut, max_relative = 1e-14);
+        assert_eq!(r.state, s0);
+    }
+    for over in [1.01, 2.0, 50.0] {
+        for sign in [1.0, -1.0] {
+            let dut = sign * over * limit / K;
+            let r = law.evaluate(&Vector2::new(dut, dun), &s0);
+            assert_eq!(r.status, ContactStatus::Slip);
+            assert_relative_eq!(r.traction.x, sign * limit, max_relative = 1e-14);
+            // Elastic part + plastic slip = total tangential jump.
+            assert_relative_eq!(r.traction.x / K + r.state.slip, dut, max_relative = 1e-12);
+            assert_relative_eq!(r.state.accumulated_slip, r.state.slip.abs(), max_relative = 1e-14);
+        }
+    }
+}
+
+#[test]
+fn slip_is_irreversible_on_unloading() {
+    let phi = 30.0_f64;
+    let law = friction_law(0.0, phi);
+    let dun = -1.0e-6; // σ_c = 1 MPa
+    let limit = 1.0e6 * phi.to_radians().tan();
+    // Load in 10 increments to 5× the elastic limit, committing each.
+    let mut state = JointState::default();
+    let peak = 5.0 * limit / K;
+    for i in 1..=10 {
+        let r = law.evaluate(&Vector2::new(peak * i as f64 / 10.0, dun), &state);
+        state = r.state;
+    }
+    let slip = state.slip;
+    assert_relative_eq!(slip, peak - limit / K, max_relative = 1e-12);
+    // Unload to zero jump: the slip remains, the traction reverses (stick).
+    let r = law.evaluate(&Vector2::new(0.0, dun), &state);
+    assert_eq!(r.status, ContactStatus::Slip); // |−K·slip| = 4·limit > limit
+    let r_half = law.evaluate(&Vector2::new(peak - 1.5 * limit / K, dun), &state);
+    assert_eq!(r_half.status, ContactStatus::Stick);
+    assert_relative_eq!(r_half.traction.x, -0.5 * limit, max_relative = 1e-12);
+    assert_eq!(r_half.state.slip, slip);
+    // Full unloading reverses the slip by exactly (peak − 2·limit/K).
+    assert_relative_eq!(r.traction.x, -limit, max_relative = 1e-12);
+    assert_relative_eq!(r.state.slip, limit / K, max_relative = 1e-9);
+    assert_relative_eq!(r.state.accumulated_slip, slip + (slip - limit / K), max_relative = 1e-12);
+}
+
+#[test]
+fn zero_traction_when_open_even_with_cohesion() {
+    let law = friction_law(1.0e6, 35.0);
+    let committed = JointState { slip: 2.0e-6, accumulated_slip: 3.0e-6, lambda_n: 0.0 };
+    let r = law.evaluate(&Vector2::new(-7.0e-6, 1.0e-8), &committed);
+    assert_eq!(r.status, ContactStatus::Open);
+    assert_eq!(r.traction, Vector2::zeros());
+    assert_eq!(r.tangent, Matrix2::zeros());
+    // Faces slide freely: the spring is unstretched on reclosing, and the
+    // free sliding is not dissipative slip.
+    assert_eq!(r.state.slip, -7.0e-6);
+    assert_eq!(r.state.accumulated_slip, 3.0e-6);
+    let re = law.evaluate(&Vector2::new(-7.0e-6, -1.0e-9), &r.state);
+    assert_eq!(re.status, ContactStatus::Stick);
+    assert_eq!(re.traction.x, 0.0);
+}
+
+#[test]
+fn cohesion_gives_strength_at_zero_pressure() {
+    let c = 0.8e6;
+    // Bilateral normal: at Δu_n = 0 the pressure is zero, strength = c.
+    let law = MohrCoulomb::new(LinearNormal::new(K).unwrap(), K, c, 20f64.to_radians()).unwrap();
+    let s = JointState::default();
+    let r = law.evaluate(&Vector2::new(0.9 * c / K, 0.0), &s);
+    assert_eq!(r.status, ContactStatus::Stick);
+    let r = law.evaluate(&Vector2::new(3.0 * c / K, 0.0), &s);
+    assert_eq!(r.status, ContactStatus::Slip);
+    assert_relative_eq!(r.traction.x, c, max_relative = 1e-14);
+    // Pure cohesion (φ = 0, Tresca): strength independent of pressure.
+    let tresca = MohrCoulomb::new(LinearNormal::new(K).unwrap(), K, c, 0.0).unwrap();
+    for dun in [-5e-6, 0.0, 5e-6] {
+        let r = tresca.evaluate(&Vector2::new(-1e-5, dun), &s);
+        assert_relative_eq!(r.traction.x, -c, max_relative = 1e-14);
+        assert_eq!(r.tangent[(0, 1)], 0.0);
+    }
+}
+
+#[test]
+fn tension_cut_off_at_the_apex() {
+    let (c, phi) = (0.6e6, 30f64.to_radians());
+    let law = MohrCoulomb::new(LinearNormal::new(K).unwrap(), K, c, phi).unwrap();
+    let s = JointState::default();
+    let apex = c / phi.tan(); // σ at which the strength vanishes
+    // Below the apex the strength falls linearly with tension.
+    let sigma = 0.5 * apex;
+    let r = law.evaluate(&Vector2::new(1e-4, sigma / K), &s);
+    assert_eq!(r.status, ContactStatus::Slip);
+    assert_relative_eq!(r.traction.x, c - sigma * phi.tan(), max_relative = 1e-12);
+    // Beyond the apex: no shear strength at all, and no coupling term.
+    for sigma in [1.01 * apex, 3.0 * apex] {
+        let r = law.evaluate(&Vector2::new(1e-4, sigma / K), &s);
+        assert_eq!(r.traction.x, 0.0);
+        assert_eq!(r.tangent.row(0).norm(), 0.0);
+        assert_relative_eq!(r.traction.y, sigma, max_relative = 1e-12);
+    }
+    // The paper's joint (unilateral) cuts tension off at zero.
+    let paper = friction_law(c, 30.0);
+    let r = paper.evaluate(&Vector2::new(1e-4, 1e-6), &s);
+    assert_eq!((r.traction, r.status), (Vector2::zeros(), ContactStatus::Open));
+}
+
+#[test]
+fn augmented_lagrangian_update_removes_penetration_dependence() {
+    let g = GhaboussiNormal::penalty(K).unwrap();
+    // Converged penetration 1 µm under λ = 0: new λ = pressure 1 MPa.
+    assert_relative_eq!(g.updated_multiplier(-1e-6, 0.0), 1.0e6, max_relative = 1e-14);
+    // With λ = 1 MPa the pressure at zero penetration is 1 MPa ...
+    let r = g.normal(0.0, 1.0e6);
+    assert_eq!(r.stage, NormalStage::Contact);
+    assert_relative_eq!(r.sigma, -1.0e6, max_relative = 1e-14);
+    // ... and a gap larger than λ/k releases the contact.
+    assert_eq!(g.normal(2e-6, 1.0e6).stage, NormalStage::Separation);
+    assert_eq!(g.updated_multiplier(2e-6, 1.0e6), 0.0);
+    // Through the law: augment keeps the slip, changes λ only.
+    let law = friction_law(0.0, 30.0);
+    let st = JointState { slip: 1e-6, accumulated_slip: 2e-6, lambda_n: 0.5e6 };
+    let a = law.augment(&Vector2::new(0.0, -0.25e-6), &st);
+    assert_relative_eq!(a.state.lambda_n, 0.75e6, max_relative = 1e-14);
+    assert_relative_eq!(a.multiplier_change, 0.25e6, max_relative = 1e-12);
+    assert_eq!((a.state.slip, a.state.accumulated_slip), (st.slip, st.accumulated_slip));
+    // evaluate never changes λ.
+    assert_eq!(law.evaluate(&Vector2::new(1e-5, -1e-6), &st).state.lambda_n, st.lambda_n);
+    // Linear joint has no multiplier: unchanged, zero change.
+    let lj = LinearJoint::new(1.0, 1.0).unwrap();
+    assert_eq!(lj.augment(&Vector2::new(1.0, 1.0), &()).multiplier_change, 0.0);
+}
+
+#[test]
+fn invalid_parameters_are_typed_errors() {
+    assert_eq!(
+        LinearJoint::new(-1.0, 1.0),
+        Err(LawError::NegativeStiffness { name: "k_s", value: -1.0 })
+    );
+    assert!(matches!(LinearJoint::new(1.0, f64::NAN), Err(LawError::NonFinite { name: "k_n", .. })));
+    assert_eq!(GhaboussiNormal::new(1e9, 1e11, 0.0, 0.0), Err(LawError::NonPositiveThickness(0.0)));
+    assert_eq!(GhaboussiNormal::new(1e9, 1e11, 1e-3, 1e-3), Err(LawError::PositiveCrushingStrain(1e-3)));
+    assert_eq!(
+        GhaboussiNormal::new(-1e9, 1e11, 1e-3, 0.0),
+        Err(LawError::NegativeStiffness { name: "E", value: -1e9 })
+    );
+    assert_eq!(
+        GhaboussiNormal::new(1e9, 0.0, 1e-3, 0.0),
+        Err(LawError::NonPositiveStiffness { name: "E_f", value: 0.0 })
+    );
+    assert!(LinearNormal::new(-2.0).is_err());
+    let g = GhaboussiNormal::penalty(K).unwrap();
+    assert!(matches!(MohrCoulomb::new(g, K, 0.0, 90f64.to_radians()), Err(LawError::FrictionAngle { .. })));
+    assert!(matches!(MohrCoulomb::new(g, K, 0.0, -0.1), Err(LawError::FrictionAngle { .. })));
+    assert_eq!(MohrCoulomb::new(g, K, -1.0, 0.3), Err(LawError::NegativeCohesion(-1.0)));
+    assert!(matches!(MohrCoulomb::new(g, 0.0, 0.0, 0.3), Err(LawError::NonPositiveStiffness { name: "k_s", .. })));
+    assert!(ElasticJoint::new(g, -1.0).is_err());
+    assert_eq!(default_penalty(2e11, 0.0), Err(LawError::NonPositiveElementSize(0.0)));
+    assert!(default_penalty(-2e11, 1e-3).is_err());
+    // Messages name the parameter.
+    let msg = MohrCoulomb::new(g, K, 0.0, 1.6).unwrap_err().to_string();
+    assert!(msg.contains("friction angle") && msg.contains("91.67"), "{msg}");
+}
+
+#[test]
+fn default_penalty_is_beta_e_over_h() {
+    let (e, h) = (207.0e9, 2.0e-3);
+    assert_relative_eq!(default_penalty(e, h).unwrap(), tecon_contact::DEFAULT_PENALTY_FACTOR * e / h);
+    let law = PaperJoint::with_default_penalty(e, h, 0.0, 0.3).unwrap();
+    assert_relative_eq!(law.normal_law().contact_stiffness(), 10.0 * e / h, max_relative = 1e-14);
+    assert_relative_eq!(law.k_s(), 10.0 * e / h, max_relative = 1e-14);
+}
+
+#[test]
+fn laws_and_states_are_thread_safe_plain_data() {
+    fn check<L: ContactLaw + Clone + Send + Sync + 'static>() {}
+    check::<LinearJoint>();
+    check::<PaperJoint>();
+    check::<MohrCoulomb<LinearNormal>>();
+    check::<ElasticJoint>();
+}
