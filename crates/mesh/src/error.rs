@@ -27,9 +27,9 @@ pub enum MeshError {
         /// Number of nodes.
         n_nodes: usize,
     },
-    /// Two nodes of one body sit at the same point.
+    /// Two nodes of one region sit at the same point.
     #[error(
-        "nodes {a} and {b} coincide at ({x}, {y}) in body '{body}' (coincident nodes are only allowed across an interface between two bodies)"
+        "nodes {a} and {b} coincide at ({x}, {y}) in region '{region}' (an unmerged mesh? coincident nodes are only allowed between different regions, as on an interface)"
     )]
     DuplicateNodes {
         /// First node.
@@ -40,8 +40,8 @@ pub enum MeshError {
         x: f64,
         /// y coordinate.
         y: f64,
-        /// Body containing both.
-        body: String,
+        /// Region using both.
+        region: String,
     },
     /// A node that no triangle uses.
     #[error("node {node} at ({x}, {y}) is used by no triangle")]
@@ -121,19 +121,17 @@ pub enum MeshError {
         /// Facing top nodes.
         d: usize,
     },
-    /// An interface whose two faces belong to the same body.
+    /// An interface element whose bottom and top faces are the same edge.
     #[error(
-        "interface '{interface}': edge ({a}, {b}) and its facing edge lie in the same body '{body}'; an interface joins two separate bodies"
+        "interface '{interface}': edge ({a}, {b}) faces itself; an interface needs separate nodes on its two faces"
     )]
-    InterfaceWithinBody {
+    InterfaceSameEdge {
         /// Interface name.
         interface: String,
         /// Bottom edge node.
         a: usize,
         /// Bottom edge node.
         b: usize,
-        /// The body.
-        body: String,
     },
     /// A generator parameter that makes no sense.
     #[error("invalid mesh parameter {name} = {value}: {reason}")]

@@ -166,7 +166,7 @@ impl Mesh {
             });
         }
         let (node_body, bodies) = find_bodies(n, &triangles, &element_region, &region_names);
-        check_duplicates(&nodes, &node_body, &bodies)?;
+        check_duplicates(&nodes, &triangles, &element_region, &region_names)?;
         let mut notices = Vec::new();
         if flipped > 0 {
             notices.push(MeshNotice::ReorientedTriangles { count: flipped });
@@ -408,12 +408,11 @@ impl Mesh {
                     d: n4,
                 });
             }
-            if self.node_body[n1] == self.node_body[n4] {
-                return Err(MeshError::InterfaceWithinBody {
+            if n1 == n4 && n2 == n3 {
+                return Err(MeshError::InterfaceSameEdge {
                     interface: name.into(),
                     a,
                     b,
-                    body: self.bodies[self.node_body[n1]].name.clone(),
                 });
             }
             elements.push([n1, n2, n3, n4]);
@@ -548,10 +547,14 @@ fn find_bodies(
     (node_body, bodies)
 }
 
+/// Coincident nodes are an error when both are used by triangles of one
+/// region (an unmerged mesh); across regions they are allowed, as on an
+/// interface or at the tip of an interface crack.
 fn check_duplicates(
     nodes: &[Point],
-    node_body: &[usize],
-    bodies: &[Body],
+    triangles: &[[usize; 3]],
+    element_region: &[usize],
+    region_names: &[String],
 ) -> Result<(), MeshError> {
     if nodes.is_empty() {
         return Ok(());
@@ -567,17 +570,40 @@ fn check_duplicates(
     let tol = COINCIDENCE_TOLERANCE * size;
     let all: Vec<usize> = (0..nodes.len()).collect();
     let grid = PointGrid::new(nodes, &all, tol);
+    let mut pairs = Vec::new();
     for (i, p) in nodes.iter().enumerate() {
         for j in grid.within(nodes, *p, tol) {
-            if j > i && node_body[j] == node_body[i] {
-                return Err(MeshError::DuplicateNodes {
-                    a: i,
-                    b: j,
-                    x: p[0],
-                    y: p[1],
-                    body: bodies[node_body[i]].name.clone(),
-                });
+            if j > i {
+                pairs.push((i, j));
             }
+        }
+    }
+    if pairs.is_empty() {
+        return Ok(());
+    }
+    let mut regions_of: HashMap<usize, Vec<usize>> = HashMap::new();
+    for &(i, j) in &pairs {
+        regions_of.entry(i).or_default();
+        regions_of.entry(j).or_default();
+    }
+    for (e, t) in triangles.iter().enumerate() {
+        for v in t {
+            if let Some(r) = regions_of.get_mut(v) {
+                if !r.contains(&element_region[e]) {
+                    r.push(element_region[e]);
+                }
+            }
+        }
+    }
+    for (i, j) in pairs {
+        if let Some(&r) = regions_of[&i].iter().find(|r| regions_of[&j].contains(r)) {
+            return Err(MeshError::DuplicateNodes {
+                a: i,
+                b: j,
+                x: nodes[i][0],
+                y: nodes[i][1],
+                region: region_names[r].clone(),
+            });
         }
     }
     Ok(())

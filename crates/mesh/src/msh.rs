@@ -39,9 +39,14 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
     check_version(bytes, path)?;
     let binary = is_binary(bytes);
     let file = mshio::parse_msh_bytes(bytes).map_err(|e| {
-        let (offset, message) = match e.begin_msh_errors().next() {
-            Some((rest, kind)) => (bytes.len() - rest.len(), format!("{kind:?}")),
-            None => (0, "unrecognised content".to_string()),
+        // The first backtrace entry is the deepest, where parsing stopped.
+        let offset = e
+            .backtrace
+            .first()
+            .map_or(0, |(rest, _)| bytes.len() - rest.len());
+        let message = match e.first_msh_error() {
+            Some(kind) => format!("{kind:?}"),
+            None => "unexpected content".to_string(),
         };
         let context: Vec<String> = e
             .filter_msh_errors()
