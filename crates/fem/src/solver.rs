@@ -121,7 +121,7 @@ impl CholeskySolver {
                 let dof = self
                     .symbolic
                     .perm()
-                    .map(|perm| perm.arrays().0[pivot])
+                    .and_then(|perm| perm.arrays().0.get(pivot).copied())
                     .unwrap_or(pivot);
                 Err(FemError::NotPositiveDefinite {
                     pivot,
