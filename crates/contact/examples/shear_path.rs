@@ -90,8 +90,8 @@ pub fn law(p: &ShearPath) -> Result<PaperJoint, ContactError> {
 /// pressed state).
 pub fn shear_path(p: &ShearPath) -> Result<Vec<PathPoint>, ContactError> {
     let law = law(p)?;
-    let nodes = [[0.0, 0.0], [p.length, 0.0], [p.length, 0.0], [0.0, 0.0]]
-        .map(|x| Point2::new(x[0], x[1]));
+    let nodes =
+        [[0.0, 0.0], [p.length, 0.0], [p.length, 0.0], [0.0, 0.0]].map(|x| Point2::new(x[0], x[1]));
     let element = InterfaceElement::new(&nodes)?;
     let strength = law.strength(-p.pressure);
     let s_max = p.peak_over_elastic * strength / law.k_s();

@@ -210,7 +210,10 @@ impl InterfaceElement {
         states: &[L::State; 2],
     ) -> ([L::State; 2], f64) {
         let j = self.jumps(u);
-        let a: [Augmentation<L::State>; 2] = [law.augment(&j[0], &states[0]), law.augment(&j[1], &states[1])];
+        let a: [Augmentation<L::State>; 2] = [
+            law.augment(&j[0], &states[0]),
+            law.augment(&j[1], &states[1]),
+        ];
         (
             [a[0].state, a[1].state],
             a[0].multiplier_change.max(a[1].multiplier_change),

@@ -27,7 +27,9 @@
 
 use approx::assert_relative_eq;
 use tecon_contact::nalgebra::{Matrix4, Point2, Vector4};
-use tecon_contact::{ContactStatus, GhaboussiNormal, InterfaceElement, JointState, PaperJoint, Vector8};
+use tecon_contact::{
+    ContactStatus, GhaboussiNormal, InterfaceElement, JointState, PaperJoint, Vector8,
+};
 
 const L: f64 = 0.1;
 const KB: f64 = 5.0e9; // N/m per node
@@ -54,7 +56,8 @@ fn newton(e: &InterfaceElement, law: &PaperJoint, states: &[JointState; 2]) -> V
         if res.norm() <= 1e-12 * KB * DELTA {
             return u;
         }
-        let k: Matrix4<f64> = r.tangent.fixed_view::<4, 4>(4, 4).into_owned() + Matrix4::identity() * KB;
+        let k: Matrix4<f64> =
+            r.tangent.fixed_view::<4, 4>(4, 4).into_owned() + Matrix4::identity() * KB;
         let du = k.lu().solve(&(-res)).expect("tangent is regular (springs)");
         let mut top = u.fixed_rows_mut::<4>(4);
         top += du;
@@ -65,7 +68,13 @@ fn newton(e: &InterfaceElement, law: &PaperJoint, states: &[JointState; 2]) -> V
 fn solve(k_n: f64, augmented: bool) -> Result {
     let nodes = [[0.0, 0.0], [L, 0.0], [L, 0.0], [0.0, 0.0]].map(|p| Point2::new(p[0], p[1]));
     let e = InterfaceElement::new(&nodes).unwrap();
-    let law = PaperJoint::new(GhaboussiNormal::penalty(k_n).unwrap(), k_n, 0.0, PHI_DEG.to_radians()).unwrap();
+    let law = PaperJoint::new(
+        GhaboussiNormal::penalty(k_n).unwrap(),
+        k_n,
+        0.0,
+        PHI_DEG.to_radians(),
+    )
+    .unwrap();
     let mut states = [JointState::default(); 2];
     let mut outer = 0;
     loop {
@@ -85,7 +94,11 @@ fn solve(k_n: f64, augmented: bool) -> Result {
     }
 }
 
-fn report(points: &[tecon_contact::PointOutput<JointState>; 2], outer: usize, states: [JointState; 2]) -> Result {
+fn report(
+    points: &[tecon_contact::PointOutput<JointState>; 2],
+    outer: usize,
+    states: [JointState; 2],
+) -> Result {
     Result {
         pressure: -points[0].traction.y,
         shear: points[0].traction.x,

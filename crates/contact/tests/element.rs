@@ -30,9 +30,9 @@ use approx::assert_relative_eq;
 use proptest::prelude::*;
 use tecon_contact::nalgebra::{Matrix2, Point2, Rotation2, Vector2};
 use tecon_contact::{
-    ContactError, NormalLaw, ContactLaw, ContactStatus, GhaboussiNormal, InterfaceElement,
-    InterfaceGeometryError, InterfaceQuadrature, JointState, LinearJoint, Matrix8, PaperJoint,
-    Vector8,
+    ContactError, ContactLaw, ContactStatus, GhaboussiNormal, InterfaceElement,
+    InterfaceGeometryError, InterfaceQuadrature, JointState, LinearJoint, Matrix8, NormalLaw,
+    PaperJoint, Vector8,
 };
 
 const RULES: [InterfaceQuadrature; 2] = [InterfaceQuadrature::Nodal, InterfaceQuadrature::Gauss2];
@@ -53,15 +53,33 @@ fn paper_joint() -> PaperJoint {
 
 /// Global displacements giving local jumps `j1` at node pair (1,4) and `j2`
 /// at pair (2,3), bottom nodes moved by `ub`.
-fn displacements(e: &InterfaceElement, ub: Vector2<f64>, j1: Vector2<f64>, j2: Vector2<f64>) -> Vector8 {
+fn displacements(
+    e: &InterfaceElement,
+    ub: Vector2<f64>,
+    j1: Vector2<f64>,
+    j2: Vector2<f64>,
+) -> Vector8 {
     let rt = e.geometry().rotation().transpose();
     let (g1, g2) = (rt * j1, rt * j2);
     Vector8::from_column_slice(&[
-        ub.x, ub.y, ub.x, ub.y, ub.x + g2.x, ub.y + g2.y, ub.x + g1.x, ub.y + g1.y,
+        ub.x,
+        ub.y,
+        ub.x,
+        ub.y,
+        ub.x + g2.x,
+        ub.y + g2.y,
+        ub.x + g1.x,
+        ub.y + g1.y,
     ])
 }
 
-fn fd_tangent<L: ContactLaw>(e: &InterfaceElement, law: &L, u: &Vector8, s: &[L::State; 2], h: f64) -> Matrix8 {
+fn fd_tangent<L: ContactLaw>(
+    e: &InterfaceElement,
+    law: &L,
+    u: &Vector8,
+    s: &[L::State; 2],
+    h: f64,
+) -> Matrix8 {
     let mut k = Matrix8::zeros();
     for c in 0..8 {
         let mut d = Vector8::zeros();
@@ -75,7 +93,13 @@ fn fd_tangent<L: ContactLaw>(e: &InterfaceElement, law: &L, u: &Vector8, s: &[L:
 
 /// True if no point changes status, slip direction or normal stage within
 /// ±h of `u` in any dof (the law is piecewise linear between such kinks).
-fn away_from_kinks(e: &InterfaceElement, law: &PaperJoint, u: &Vector8, s: &[JointState; 2], h: f64) -> bool {
+fn away_from_kinks(
+    e: &InterfaceElement,
+    law: &PaperJoint,
+    u: &Vector8,
+    s: &[JointState; 2],
+    h: f64,
+) -> bool {
     let st = |v: &Vector8| {
         e.evaluate(law, v, s).points.map(|p| {
             let stage = law.normal_law().normal(p.jump.y, p.state.lambda_n).stage;
@@ -157,20 +181,37 @@ proptest! {
 fn slipping_element_tangent_is_non_symmetric_and_matches_fd() {
     let law = paper_joint();
     for rule in RULES {
-        let e = InterfaceElement::with_quadrature(&element_nodes(Vector2::new(1.0, 2.0), 2.2, 0.1), rule).unwrap();
+        let e = InterfaceElement::with_quadrature(
+            &element_nodes(Vector2::new(1.0, 2.0), 2.2, 0.1),
+            rule,
+        )
+        .unwrap();
         // Both pairs in the crushing stage, sheared far past the limit.
-        let u = displacements(&e, Vector2::zeros(), Vector2::new(40e-6, -0.6e-6), Vector2::new(35e-6, -0.4e-6));
+        let u = displacements(
+            &e,
+            Vector2::zeros(),
+            Vector2::new(40e-6, -0.6e-6),
+            Vector2::new(35e-6, -0.4e-6),
+        );
         let s = [JointState::default(); 2];
         let r = e.evaluate(&law, &u, &s);
         assert!(r.points.iter().all(|p| p.status == ContactStatus::Slip));
         assert!(away_from_kinks(&e, &law, &u, &s, 1e-10));
         let asym = (r.tangent - r.tangent.transpose()).norm() / r.tangent.norm();
-        assert!(asym > 0.1, "slipping tangent should be non-symmetric: {asym}");
+        assert!(
+            asym > 0.1,
+            "slipping tangent should be non-symmetric: {asym}"
+        );
         let err = fd_error(&e, &law, &u, &s);
         println!("{rule:?}: slipping element FD tangent error {err:.2e} (asymmetry {asym:.2})");
         assert!(err < 1e-7, "{err}");
         // Stick and linear joint too.
-        let u_st = displacements(&e, Vector2::zeros(), Vector2::new(0.1e-6, -0.6e-6), Vector2::new(-0.2e-6, -1.4e-6));
+        let u_st = displacements(
+            &e,
+            Vector2::zeros(),
+            Vector2::new(0.1e-6, -0.6e-6),
+            Vector2::new(-0.2e-6, -1.4e-6),
+        );
         let r_st = e.evaluate(&law, &u_st, &s);
         assert!(r_st.points.iter().all(|p| p.status == ContactStatus::Stick));
         let err_st = fd_error(&e, &law, &u_st, &s);
@@ -186,7 +227,8 @@ fn rigid_body_motion_gives_zero_force() {
     let law = paper_joint();
     let lin = LinearJoint::new(3e11, 7e11).unwrap();
     // Finite-thickness element (1 mm gap): rigid translation.
-    let nodes = [[0.0, 0.0], [0.3, 0.1], [0.3, 0.101], [0.0, 0.001]].map(|p| Point2::new(p[0], p[1]));
+    let nodes =
+        [[0.0, 0.0], [0.3, 0.1], [0.3, 0.101], [0.0, 0.001]].map(|p| Point2::new(p[0], p[1]));
     for rule in RULES {
         let e = InterfaceElement::with_quadrature(&nodes, rule).unwrap();
         let u = Vector8::from_fn(|i, _| if i % 2 == 0 { 1.7e-3 } else { -4.2e-3 });
@@ -194,7 +236,11 @@ fn rigid_body_motion_gives_zero_force() {
         assert!(r.points.iter().all(|p| p.jump.norm() < 1e-18));
         assert!(r.force.norm() < 1e-6, "{}", r.force.norm());
         // Zero-thickness element: infinitesimal rigid rotation ω about c.
-        let e0 = InterfaceElement::with_quadrature(&element_nodes(Vector2::new(0.4, 0.7), 0.9, 0.25), rule).unwrap();
+        let e0 = InterfaceElement::with_quadrature(
+            &element_nodes(Vector2::new(0.4, 0.7), 0.9, 0.25),
+            rule,
+        )
+        .unwrap();
         let (omega, c) = (1e-4, Vector2::new(-3.0, 5.0));
         let nodes0 = element_nodes(Vector2::new(0.4, 0.7), 0.9, 0.25);
         let mut u = Vector8::zeros();
@@ -203,7 +249,13 @@ fn rigid_body_motion_gives_zero_force() {
             u[2 * n] = -omega * d.y;
             u[2 * n + 1] = omega * d.x;
         }
-        for s in [[JointState::default(); 2], [JointState { slip: 1e-6, ..Default::default() }; 2]] {
+        for s in [
+            [JointState::default(); 2],
+            [JointState {
+                slip: 1e-6,
+                ..Default::default()
+            }; 2],
+        ] {
             let r = e0.evaluate(&law, &u, &s);
             assert_eq!(r.force, Vector8::zeros());
             assert!(r.points.iter().all(|p| p.jump == Vector2::zeros()));
@@ -221,7 +273,11 @@ fn uniform_jump_gives_exact_traction_and_nodal_forces() {
     for rule in RULES {
         for a in [0.0, 0.7, 2.0, -2.5] {
             let l = 0.15;
-            let e = InterfaceElement::with_quadrature(&element_nodes(Vector2::new(2.0, -1.0), a, l), rule).unwrap();
+            let e = InterfaceElement::with_quadrature(
+                &element_nodes(Vector2::new(2.0, -1.0), a, l),
+                rule,
+            )
+            .unwrap();
             let j = Vector2::new(2.0e-6, -1.1e-6);
             let u = displacements(&e, Vector2::new(0.3, 0.2), j, j);
             let r = e.evaluate(&lin, &u, &[(); 2]);
@@ -233,7 +289,11 @@ fn uniform_jump_gives_exact_traction_and_nodal_forces() {
             // Each node carries half the resultant, bottom pulled by −Rᵀt.
             let fg = e.geometry().rotation().transpose() * t * (l / 2.0);
             for (n, sign) in [(0, -1.0), (1, -1.0), (2, 1.0), (3, 1.0)] {
-                assert_relative_eq!(r.force.fixed_rows::<2>(2 * n).into_owned(), fg * sign, max_relative = 1e-9);
+                assert_relative_eq!(
+                    r.force.fixed_rows::<2>(2 * n).into_owned(),
+                    fg * sign,
+                    max_relative = 1e-9
+                );
             }
             // The nonlinear law too: traction = law's traction at j.
             let rp = e.evaluate(&law, &u, &[JointState::default(); 2]);
@@ -258,7 +318,9 @@ fn linear_tangent_is_jump_gram_times_rotated_stiffness() {
         let mut expected = Matrix8::zeros();
         for i in 0..4 {
             for j in 0..4 {
-                expected.fixed_view_mut::<2, 2>(2 * i, 2 * j).copy_from(&(c * gram[(i, j)]));
+                expected
+                    .fixed_view_mut::<2, 2>(2 * i, 2 * j)
+                    .copy_from(&(c * gram[(i, j)]));
             }
         }
         assert_relative_eq!(k, expected, max_relative = 1e-12, epsilon = 1e-3);
@@ -282,7 +344,12 @@ fn point_output_reports_jump_traction_status_slip() {
     let law = paper_joint();
     let e = InterfaceElement::new(&element_nodes(Vector2::zeros(), 0.0, 0.2)).unwrap();
     // Pair (1,4) open, pair (2,3) slipping in the crushing stage.
-    let u = displacements(&e, Vector2::zeros(), Vector2::new(3e-6, 0.5e-6), Vector2::new(40e-6, -0.5e-6));
+    let u = displacements(
+        &e,
+        Vector2::zeros(),
+        Vector2::new(3e-6, 0.5e-6),
+        Vector2::new(40e-6, -0.5e-6),
+    );
     let r = e.evaluate(&law, &u, &[JointState::default(); 2]);
     let [p1, p2] = r.points;
     assert_eq!((p1.zeta, p2.zeta), (-0.1, 0.1));
@@ -300,7 +367,12 @@ fn point_output_reports_jump_traction_status_slip() {
 fn element_augment_updates_multipliers() {
     let law = PaperJoint::new(GhaboussiNormal::penalty(1e12).unwrap(), 1e12, 0.0, 0.3).unwrap();
     let e = InterfaceElement::new(&element_nodes(Vector2::zeros(), 0.4, 0.1)).unwrap();
-    let u = displacements(&e, Vector2::zeros(), Vector2::new(0.0, -1e-6), Vector2::new(0.0, -2e-6));
+    let u = displacements(
+        &e,
+        Vector2::zeros(),
+        Vector2::new(0.0, -1e-6),
+        Vector2::new(0.0, -2e-6),
+    );
     let (s, change) = e.augment(&law, &u, &[JointState::default(); 2]);
     assert_relative_eq!(s[0].lambda_n, 1e6, max_relative = 1e-9);
     assert_relative_eq!(s[1].lambda_n, 2e6, max_relative = 1e-9);
@@ -312,12 +384,16 @@ fn bad_geometry_is_a_typed_error() {
     let p = Point2::new(1.0, 1.0);
     assert!(matches!(
         InterfaceElement::new(&[p, p, p, p]),
-        Err(ContactError::Geometry(InterfaceGeometryError::ZeroLength { .. }))
+        Err(ContactError::Geometry(
+            InterfaceGeometryError::ZeroLength { .. }
+        ))
     ));
     let mut nodes = element_nodes(Vector2::zeros(), 0.0, 1.0);
     nodes.swap(2, 3);
     assert_eq!(
         InterfaceElement::new(&nodes),
-        Err(ContactError::Geometry(InterfaceGeometryError::ReversedTopFace))
+        Err(ContactError::Geometry(
+            InterfaceGeometryError::ReversedTopFace
+        ))
     );
 }

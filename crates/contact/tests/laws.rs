@@ -42,7 +42,12 @@ const K: f64 = 1.0e12; // typical penalty, Pa/m
 const FD_TOL: f64 = 1.0e-7;
 
 /// Central-difference tangent of `law` at `jump` with committed `state`.
-fn fd_tangent<L: ContactLaw>(law: &L, jump: &Vector2<f64>, state: &L::State, h: f64) -> Matrix2<f64> {
+fn fd_tangent<L: ContactLaw>(
+    law: &L,
+    jump: &Vector2<f64>,
+    state: &L::State,
+    h: f64,
+) -> Matrix2<f64> {
     let mut c = Matrix2::zeros();
     for k in 0..2 {
         let mut e = Vector2::zeros();
@@ -55,18 +60,34 @@ fn fd_tangent<L: ContactLaw>(law: &L, jump: &Vector2<f64>, state: &L::State, h: 
 }
 
 /// Relative FD error `‖C − C_fd‖ / max(‖C‖, k_ref)`.
-fn fd_error<L: ContactLaw>(law: &L, jump: &Vector2<f64>, state: &L::State, h: f64, k_ref: f64) -> f64 {
+fn fd_error<L: ContactLaw>(
+    law: &L,
+    jump: &Vector2<f64>,
+    state: &L::State,
+    h: f64,
+    k_ref: f64,
+) -> f64 {
     let c = law.evaluate(jump, state).tangent;
     let c_fd = fd_tangent(law, jump, state, h);
     (c - c_fd).norm() / c.norm().max(k_ref)
 }
 
 /// "Regime" of a law response, to skip points within one FD step of a kink.
-fn same_regime<N: NormalLaw>(law: &MohrCoulomb<N>, jump: &Vector2<f64>, state: &JointState, h: f64) -> bool {
+fn same_regime<N: NormalLaw>(
+    law: &MohrCoulomb<N>,
+    jump: &Vector2<f64>,
+    state: &JointState,
+    h: f64,
+) -> bool {
     let regime = |j: Vector2<f64>| {
         let r = law.evaluate(&j, state);
         let nr = law.normal_law().normal(j.y, state.lambda_n);
-        (r.status, nr.stage, law.strength(nr.sigma) > 0.0, r.traction.x >= 0.0)
+        (
+            r.status,
+            nr.stage,
+            law.strength(nr.sigma) > 0.0,
+            r.traction.x >= 0.0,
+        )
     };
     let r0 = regime(*jump);
     [Vector2::new(h, 0.0), Vector2::new(0.0, h)]
@@ -84,7 +105,11 @@ fn linear_joint_values_and_tangent() {
     let law = LinearJoint::new(3.0e11, 7.0e11).unwrap();
     let j = Vector2::new(2.0e-6, -1.0e-6);
     let r = law.evaluate(&j, &());
-    assert_relative_eq!(r.traction, Vector2::new(6.0e5, -7.0e5), max_relative = 1e-15);
+    assert_relative_eq!(
+        r.traction,
+        Vector2::new(6.0e5, -7.0e5),
+        max_relative = 1e-15
+    );
     assert_eq!(r.status, ContactStatus::Stick);
     // Bonded: tension too.
     let r = law.evaluate(&Vector2::new(0.0, 1.0e-6), &());
@@ -100,7 +125,10 @@ fn ghaboussi_three_stages() {
     let (e, e_f, t, eps_c) = (2.0e9, 2.0e11, 1.0e-3, -1.0e-3);
     // Separation.
     let r = g.normal(0.5e-6, 0.0);
-    assert_eq!((r.sigma, r.stiffness, r.stage), (0.0, 0.0, NormalStage::Separation));
+    assert_eq!(
+        (r.sigma, r.stiffness, r.stage),
+        (0.0, 0.0, NormalStage::Separation)
+    );
     // Crushing: σ = E ε_n.
     let du = -0.4e-6;
     let r = g.normal(du, 0.0);
@@ -111,7 +139,11 @@ fn ghaboussi_three_stages() {
     let du = -1.3e-6;
     let r = g.normal(du, 0.0);
     assert_eq!(r.stage, NormalStage::Contact);
-    assert_relative_eq!(r.sigma, e * eps_c + e_f * (du / t - eps_c), max_relative = 1e-14);
+    assert_relative_eq!(
+        r.sigma,
+        e * eps_c + e_f * (du / t - eps_c),
+        max_relative = 1e-14
+    );
     assert_relative_eq!(r.stiffness, e_f / t, max_relative = 1e-14);
     // Continuous at both stage boundaries.
     for b in [0.0, t * eps_c] {
@@ -120,12 +152,21 @@ fn ghaboussi_three_stages() {
         let d = 1e-15;
         let (lo, hi) = (g.normal(b - d, 0.0), g.normal(b + d, 0.0));
         let bound = 2.0 * d * (g.contact_stiffness() + g.crushing_stiffness());
-        assert!((lo.sigma - hi.sigma).abs() <= bound, "jump at {b}: {} vs {}", lo.sigma, hi.sigma);
+        assert!(
+            (lo.sigma - hi.sigma).abs() <= bound,
+            "jump at {b}: {} vs {}",
+            lo.sigma,
+            hi.sigma
+        );
     }
     // Smooth surfaces: no crushing stage.
     let s = GhaboussiNormal::smooth(2.0e11, 1.0e-3).unwrap();
     assert_eq!(s.normal(-1e-9, 0.0).stage, NormalStage::Contact);
-    assert_relative_eq!(s.normal(-1e-9, 0.0).sigma, -2.0e11 / 1.0e-3 * 1e-9, max_relative = 1e-14);
+    assert_relative_eq!(
+        s.normal(-1e-9, 0.0).sigma,
+        -2.0e11 / 1.0e-3 * 1e-9,
+        max_relative = 1e-14
+    );
 }
 
 #[test]
@@ -217,7 +258,11 @@ fn slipping_tangent_is_non_symmetric_and_matches_fd() {
     let jb = Vector2::new(-20.0e-6, -0.5e-6); // crushing stage
     let rb = law.evaluate(&jb, &state);
     assert_eq!(rb.status, ContactStatus::Slip);
-    assert_relative_eq!(rb.tangent[(0, 1)], phi.tan() * law.normal_law().crushing_stiffness(), max_relative = 1e-14);
+    assert_relative_eq!(
+        rb.tangent[(0, 1)],
+        phi.tan() * law.normal_law().crushing_stiffness(),
+        max_relative = 1e-14
+    );
     let e_bwd = fd_error(&law, &jb, &state, 1e-13, law.k_s());
     println!("Mohr-Coulomb slipping FD tangent error: forward {e_fwd:.2e}, backward {e_bwd:.2e}");
     assert!(e_fwd < FD_TOL && e_bwd < FD_TOL, "{e_fwd} {e_bwd}");
@@ -250,7 +295,13 @@ fn elastic_joint_fd_and_open_release() {
 }
 
 fn friction_law(c: f64, phi_deg: f64) -> PaperJoint {
-    PaperJoint::new(GhaboussiNormal::penalty(K).unwrap(), K, c, phi_deg.to_radians()).unwrap()
+    PaperJoint::new(
+        GhaboussiNormal::penalty(K).unwrap(),
+        K,
+        c,
+        phi_deg.to_radians(),
+    )
+    .unwrap()
 }
 
 #[test]
@@ -275,7 +326,11 @@ fn stick_below_the_limit_and_on_the_limit_when_slipping() {
             assert_relative_eq!(r.traction.x, sign * limit, max_relative = 1e-14);
             // Elastic part + plastic slip = total tangential jump.
             assert_relative_eq!(r.traction.x / K + r.state.slip, dut, max_relative = 1e-12);
-            assert_relative_eq!(r.state.accumulated_slip, r.state.slip.abs(), max_relative = 1e-14);
+            assert_relative_eq!(
+                r.state.accumulated_slip,
+                r.state.slip.abs(),
+                max_relative = 1e-14
+            );
         }
     }
 }
@@ -305,13 +360,21 @@ fn slip_is_irreversible_on_unloading() {
     // Full unloading reverses the slip by exactly (peak − 2·limit/K).
     assert_relative_eq!(r.traction.x, -limit, max_relative = 1e-12);
     assert_relative_eq!(r.state.slip, limit / K, max_relative = 1e-9);
-    assert_relative_eq!(r.state.accumulated_slip, slip + (slip - limit / K), max_relative = 1e-12);
+    assert_relative_eq!(
+        r.state.accumulated_slip,
+        slip + (slip - limit / K),
+        max_relative = 1e-12
+    );
 }
 
 #[test]
 fn zero_traction_when_open_even_with_cohesion() {
     let law = friction_law(1.0e6, 35.0);
-    let committed = JointState { slip: 2.0e-6, accumulated_slip: 3.0e-6, lambda_n: 0.0 };
+    let committed = JointState {
+        slip: 2.0e-6,
+        accumulated_slip: 3.0e-6,
+        lambda_n: 0.0,
+    };
     let r = law.evaluate(&Vector2::new(-7.0e-6, 1.0e-8), &committed);
     assert_eq!(r.status, ContactStatus::Open);
     assert_eq!(r.traction, Vector2::zeros());
@@ -366,14 +429,21 @@ fn tension_cut_off_at_the_apex() {
     // The paper's joint (unilateral) cuts tension off at zero.
     let paper = friction_law(c, 30.0);
     let r = paper.evaluate(&Vector2::new(1e-4, 1e-6), &s);
-    assert_eq!((r.traction, r.status), (Vector2::zeros(), ContactStatus::Open));
+    assert_eq!(
+        (r.traction, r.status),
+        (Vector2::zeros(), ContactStatus::Open)
+    );
 }
 
 #[test]
 fn augmented_lagrangian_update_removes_penetration_dependence() {
     let g = GhaboussiNormal::penalty(K).unwrap();
     // Converged penetration 1 µm under λ = 0: new λ = pressure 1 MPa.
-    assert_relative_eq!(g.updated_multiplier(-1e-6, 0.0), 1.0e6, max_relative = 1e-14);
+    assert_relative_eq!(
+        g.updated_multiplier(-1e-6, 0.0),
+        1.0e6,
+        max_relative = 1e-14
+    );
     // With λ = 1 MPa the pressure at zero penetration is 1 MPa ...
     let r = g.normal(0.0, 1.0e6);
     assert_eq!(r.stage, NormalStage::Contact);
@@ -383,55 +453,111 @@ fn augmented_lagrangian_update_removes_penetration_dependence() {
     assert_eq!(g.updated_multiplier(2e-6, 1.0e6), 0.0);
     // Through the law: augment keeps the slip, changes λ only.
     let law = friction_law(0.0, 30.0);
-    let st = JointState { slip: 1e-6, accumulated_slip: 2e-6, lambda_n: 0.5e6 };
+    let st = JointState {
+        slip: 1e-6,
+        accumulated_slip: 2e-6,
+        lambda_n: 0.5e6,
+    };
     let a = law.augment(&Vector2::new(0.0, -0.25e-6), &st);
     assert_relative_eq!(a.state.lambda_n, 0.75e6, max_relative = 1e-14);
     assert_relative_eq!(a.multiplier_change, 0.25e6, max_relative = 1e-12);
-    assert_eq!((a.state.slip, a.state.accumulated_slip), (st.slip, st.accumulated_slip));
+    assert_eq!(
+        (a.state.slip, a.state.accumulated_slip),
+        (st.slip, st.accumulated_slip)
+    );
     // evaluate never changes λ.
-    assert_eq!(law.evaluate(&Vector2::new(1e-5, -1e-6), &st).state.lambda_n, st.lambda_n);
+    assert_eq!(
+        law.evaluate(&Vector2::new(1e-5, -1e-6), &st).state.lambda_n,
+        st.lambda_n
+    );
     // Linear joint has no multiplier: unchanged, zero change.
     let lj = LinearJoint::new(1.0, 1.0).unwrap();
-    assert_eq!(lj.augment(&Vector2::new(1.0, 1.0), &()).multiplier_change, 0.0);
+    assert_eq!(
+        lj.augment(&Vector2::new(1.0, 1.0), &()).multiplier_change,
+        0.0
+    );
 }
 
 #[test]
 fn invalid_parameters_are_typed_errors() {
     assert_eq!(
         LinearJoint::new(-1.0, 1.0),
-        Err(LawError::NegativeStiffness { name: "k_s", value: -1.0 })
+        Err(LawError::NegativeStiffness {
+            name: "k_s",
+            value: -1.0
+        })
     );
-    assert!(matches!(LinearJoint::new(1.0, f64::NAN), Err(LawError::NonFinite { name: "k_n", .. })));
-    assert_eq!(GhaboussiNormal::new(1e9, 1e11, 0.0, 0.0), Err(LawError::NonPositiveThickness(0.0)));
-    assert_eq!(GhaboussiNormal::new(1e9, 1e11, 1e-3, 1e-3), Err(LawError::PositiveCrushingStrain(1e-3)));
+    assert!(matches!(
+        LinearJoint::new(1.0, f64::NAN),
+        Err(LawError::NonFinite { name: "k_n", .. })
+    ));
+    assert_eq!(
+        GhaboussiNormal::new(1e9, 1e11, 0.0, 0.0),
+        Err(LawError::NonPositiveThickness(0.0))
+    );
+    assert_eq!(
+        GhaboussiNormal::new(1e9, 1e11, 1e-3, 1e-3),
+        Err(LawError::PositiveCrushingStrain(1e-3))
+    );
     assert_eq!(
         GhaboussiNormal::new(-1e9, 1e11, 1e-3, 0.0),
-        Err(LawError::NegativeStiffness { name: "E", value: -1e9 })
+        Err(LawError::NegativeStiffness {
+            name: "E",
+            value: -1e9
+        })
     );
     assert_eq!(
         GhaboussiNormal::new(1e9, 0.0, 1e-3, 0.0),
-        Err(LawError::NonPositiveStiffness { name: "E_f", value: 0.0 })
+        Err(LawError::NonPositiveStiffness {
+            name: "E_f",
+            value: 0.0
+        })
     );
     assert!(LinearNormal::new(-2.0).is_err());
     let g = GhaboussiNormal::penalty(K).unwrap();
-    assert!(matches!(MohrCoulomb::new(g, K, 0.0, 90f64.to_radians()), Err(LawError::FrictionAngle { .. })));
-    assert!(matches!(MohrCoulomb::new(g, K, 0.0, -0.1), Err(LawError::FrictionAngle { .. })));
-    assert_eq!(MohrCoulomb::new(g, K, -1.0, 0.3), Err(LawError::NegativeCohesion(-1.0)));
-    assert!(matches!(MohrCoulomb::new(g, 0.0, 0.0, 0.3), Err(LawError::NonPositiveStiffness { name: "k_s", .. })));
+    assert!(matches!(
+        MohrCoulomb::new(g, K, 0.0, 90f64.to_radians()),
+        Err(LawError::FrictionAngle { .. })
+    ));
+    assert!(matches!(
+        MohrCoulomb::new(g, K, 0.0, -0.1),
+        Err(LawError::FrictionAngle { .. })
+    ));
+    assert_eq!(
+        MohrCoulomb::new(g, K, -1.0, 0.3),
+        Err(LawError::NegativeCohesion(-1.0))
+    );
+    assert!(matches!(
+        MohrCoulomb::new(g, 0.0, 0.0, 0.3),
+        Err(LawError::NonPositiveStiffness { name: "k_s", .. })
+    ));
     assert!(ElasticJoint::new(g, -1.0).is_err());
-    assert_eq!(default_penalty(2e11, 0.0), Err(LawError::NonPositiveElementSize(0.0)));
+    assert_eq!(
+        default_penalty(2e11, 0.0),
+        Err(LawError::NonPositiveElementSize(0.0))
+    );
     assert!(default_penalty(-2e11, 1e-3).is_err());
     // Messages name the parameter.
     let msg = MohrCoulomb::new(g, K, 0.0, 1.6).unwrap_err().to_string();
-    assert!(msg.contains("friction angle") && msg.contains("91.67"), "{msg}");
+    assert!(
+        msg.contains("friction angle") && msg.contains("91.67"),
+        "{msg}"
+    );
 }
 
 #[test]
 fn default_penalty_is_beta_e_over_h() {
     let (e, h) = (207.0e9, 2.0e-3);
-    assert_relative_eq!(default_penalty(e, h).unwrap(), tecon_contact::DEFAULT_PENALTY_FACTOR * e / h);
+    assert_relative_eq!(
+        default_penalty(e, h).unwrap(),
+        tecon_contact::DEFAULT_PENALTY_FACTOR * e / h
+    );
     let law = PaperJoint::with_default_penalty(e, h, 0.0, 0.3).unwrap();
-    assert_relative_eq!(law.normal_law().contact_stiffness(), 10.0 * e / h, max_relative = 1e-14);
+    assert_relative_eq!(
+        law.normal_law().contact_stiffness(),
+        10.0 * e / h,
+        max_relative = 1e-14
+    );
     assert_relative_eq!(law.k_s(), 10.0 * e / h, max_relative = 1e-14);
 }
 

@@ -58,7 +58,17 @@ const NY: usize = 4;
 /// Plane-strain CST stiffness (unit thickness): `A Bᵀ D B`.
 fn cst_stiffness(x: [Point2<f64>; 3]) -> SMatrix<f64, 6, 6> {
     let f = E / ((1.0 + NU) * (1.0 - 2.0 * NU));
-    let d = Matrix3::new(1.0 - NU, NU, 0.0, NU, 1.0 - NU, 0.0, 0.0, 0.0, 0.5 * (1.0 - 2.0 * NU)) * f;
+    let d = Matrix3::new(
+        1.0 - NU,
+        NU,
+        0.0,
+        NU,
+        1.0 - NU,
+        0.0,
+        0.0,
+        0.0,
+        0.5 * (1.0 - 2.0 * NU),
+    ) * f;
     let two_a = (x[1].x - x[0].x) * (x[2].y - x[0].y) - (x[2].x - x[0].x) * (x[1].y - x[0].y);
     assert!(two_a > 0.0, "triangle must be counter-clockwise");
     let mut b = SMatrix::<f64, 3, 6>::zeros();
@@ -91,7 +101,10 @@ fn block(nodes: &mut Vec<Point2<f64>>, tris: &mut Vec<[usize; 3]>, y0: f64) -> V
         .map(|j| {
             (0..=NX)
                 .map(|i| {
-                    nodes.push(Point2::new(W * i as f64 / NX as f64, y0 + H * j as f64 / NY as f64));
+                    nodes.push(Point2::new(
+                        W * i as f64 / NX as f64,
+                        y0 + H * j as f64 / NY as f64,
+                    ));
                     nodes.len() - 1
                 })
                 .collect()
@@ -99,7 +112,12 @@ fn block(nodes: &mut Vec<Point2<f64>>, tris: &mut Vec<[usize; 3]>, y0: f64) -> V
         .collect();
     for j in 0..NY {
         for i in 0..NX {
-            let (a, b, c, d) = (grid[j][i], grid[j][i + 1], grid[j + 1][i + 1], grid[j + 1][i]);
+            let (a, b, c, d) = (
+                grid[j][i],
+                grid[j][i + 1],
+                grid[j + 1][i + 1],
+                grid[j + 1][i],
+            );
             tris.push([a, b, c]);
             tris.push([a, c, d]);
         }
@@ -192,13 +210,22 @@ fn solve(k: f64, rule: InterfaceQuadrature, notch: usize, p: impl Fn(f64) -> f64
         let x0 = m.nodes[q[0]].x;
         for (p, ip) in r.points.iter().zip(e.points()) {
             resultant += ip.weight * p.traction.y;
-            out.push((x0 + 0.5 * e.geometry().length() + p.zeta, p.traction.y, p.traction.x));
+            out.push((
+                x0 + 0.5 * e.geometry().length() + p.zeta,
+                p.traction.y,
+                p.traction.x,
+            ));
         }
     }
     out.sort_by(|a, b| a.0.total_cmp(&b.0));
     // Nodal rule: neighbouring elements share node positions; keep one value.
-    out.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() <= 1e-9 * a.1.abs().max(1.0));
-    Solution { points: out, resultant }
+    out.dedup_by(|a, b| {
+        (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() <= 1e-9 * a.1.abs().max(1.0)
+    });
+    Solution {
+        points: out,
+        resultant,
+    }
 }
 
 /// Oscillation of a sampled profile: half the total variation in excess of
@@ -208,7 +235,10 @@ fn solve(k: f64, rule: InterfaceQuadrature, notch: usize, p: impl Fn(f64) -> f64
 fn oscillation(v: &[f64]) -> (f64, usize) {
     let tv: f64 = v.windows(2).map(|w| (w[1] - w[0]).abs()).sum();
     let excess = 0.5 * (tv - (v[v.len() - 1] - v[0]).abs());
-    let extrema = v.windows(3).filter(|w| (w[1] - w[0]) * (w[2] - w[1]) < 0.0).count();
+    let extrema = v
+        .windows(3)
+        .filter(|w| (w[1] - w[0]) * (w[2] - w[1]) < 0.0)
+        .count();
     (excess, extrema)
 }
 
@@ -223,7 +253,9 @@ fn uniform_pressure_passes_the_joint_exactly_with_both_rules() {
                 .iter()
                 .map(|&(_, s, t)| ((s + p).abs() + t.abs()) / p)
                 .fold(0.0, f64::max);
-            println!("{rule:?}, k = {k:.0e}: uniform pressure, worst relative traction error {worst:.1e}");
+            println!(
+                "{rule:?}, k = {k:.0e}: uniform pressure, worst relative traction error {worst:.1e}"
+            );
             assert!(worst < 1e-9, "{rule:?} k={k}: {worst}");
         }
     }
@@ -234,7 +266,11 @@ fn notched(factor: f64, rule: InterfaceQuadrature, p0: f64) -> Vec<f64> {
     let k = factor * E / (W / NX as f64);
     let sol = solve(k, rule, NX / 4, |_| -p0);
     // Equilibrium: Σ w σ over the bonded part equals the applied pull p0·W.
-    assert!((sol.resultant - p0 * W).abs() < 1e-9 * p0 * W, "{rule:?}: resultant {}", sol.resultant);
+    assert!(
+        (sol.resultant - p0 * W).abs() < 1e-9 * p0 * W,
+        "{rule:?}: resultant {}",
+        sol.resultant
+    );
     sol.points.iter().map(|p| p.1 / p0).collect()
 }
 
@@ -245,7 +281,9 @@ fn stiff_joint_traction_oscillates_with_gauss_not_with_nodal() {
     for factor in [0.1, 1.0, 10.0, 1.0e2, 1.0e4] {
         let (vn, en) = oscillation(&notched(factor, InterfaceQuadrature::Nodal, p0));
         let (vg, eg) = oscillation(&notched(factor, InterfaceQuadrature::Gauss2, p0));
-        println!("k = {factor:.0e}·E/h: oscillation/p0 nodal {vn:.2e} ({en} extrema), Gauss {vg:.2e} ({eg} extrema)");
+        println!(
+            "k = {factor:.0e}·E/h: oscillation/p0 nodal {vn:.2e} ({en} extrema), Gauss {vg:.2e} ({eg} extrema)"
+        );
         table.push((factor, vn, en, vg, eg));
     }
     let stiff = table.iter().filter(|r| r.0 >= 1.0e2);

@@ -186,7 +186,7 @@ impl InterfaceGeometry {
             .iter()
             .map(|x| x.x.abs().max(x.y.abs()))
             .fold(0.0_f64, f64::max);
-        if !(length > 1.0e3 * f64::EPSILON * scale) || length == 0.0 {
+        if length == 0.0 || length <= 1.0e3 * f64::EPSILON * scale {
             return Err(InterfaceGeometryError::ZeroLength { length });
         }
         let tangent = d / length;
@@ -235,12 +235,7 @@ impl InterfaceGeometry {
     /// `[v_t, v_n] = R [v_x, v_y]`.
     #[inline]
     pub fn rotation(&self) -> Matrix2<f64> {
-        Matrix2::new(
-            self.tangent.x,
-            self.tangent.y,
-            self.normal.x,
-            self.normal.y,
-        )
+        Matrix2::new(self.tangent.x, self.tangent.y, self.normal.x, self.normal.y)
     }
 
     /// The two integration points of `rule`: `ζ`, weight and `[N₁, N₂]`.
@@ -354,12 +349,28 @@ mod tests {
         // Consistent: ∫ Nᵢ Nⱼ = L/6 [2 1; 1 2]; b = [−N₁, −N₂, N₂, N₁].
         let s = l / 6.0;
         let consistent = Matrix4::new(
-            2. * s, s, -s, -2. * s, //
-            s, 2. * s, -2. * s, -s, //
-            -s, -2. * s, 2. * s, s, //
-            -2. * s, -s, s, 2. * s,
+            2. * s,
+            s,
+            -s,
+            -2. * s, //
+            s,
+            2. * s,
+            -2. * s,
+            -s, //
+            -s,
+            -2. * s,
+            2. * s,
+            s, //
+            -2. * s,
+            -s,
+            s,
+            2. * s,
         );
-        assert_relative_eq!(g.jump_gram(InterfaceQuadrature::Gauss2), consistent, epsilon = 1e-14);
+        assert_relative_eq!(
+            g.jump_gram(InterfaceQuadrature::Gauss2),
+            consistent,
+            epsilon = 1e-14
+        );
         let h = l / 2.0;
         let lumped = Matrix4::new(
             h, 0., 0., -h, //
@@ -367,7 +378,11 @@ mod tests {
             0., -h, h, 0., //
             -h, 0., 0., h,
         );
-        assert_relative_eq!(g.jump_gram(InterfaceQuadrature::Nodal), lumped, epsilon = 1e-14);
+        assert_relative_eq!(
+            g.jump_gram(InterfaceQuadrature::Nodal),
+            lumped,
+            epsilon = 1e-14
+        );
     }
 
     #[test]
@@ -383,7 +398,12 @@ mod tests {
         ));
         // Length at round-off level of large coordinates is also "zero".
         assert!(matches!(
-            InterfaceGeometry::new(&quad([1e6, 0.], [1e6 + 1e-9, 0.], [1e6 + 1e-9, 0.], [1e6, 0.])),
+            InterfaceGeometry::new(&quad(
+                [1e6, 0.],
+                [1e6 + 1e-9, 0.],
+                [1e6 + 1e-9, 0.],
+                [1e6, 0.]
+            )),
             Err(InterfaceGeometryError::ZeroLength { .. })
         ));
         // Nodes 3 and 4 swapped.
@@ -394,15 +414,26 @@ mod tests {
         // Top face shifted by a quarter element: node 4 does not face node 1.
         assert!(matches!(
             InterfaceGeometry::new(&quad([0., 0.], [1., 0.], [1.25, 0.], [0.25, 0.])),
-            Err(InterfaceGeometryError::NotFacing { bottom: 1, top: 4, .. })
+            Err(InterfaceGeometryError::NotFacing {
+                bottom: 1,
+                top: 4,
+                ..
+            })
         ));
         // Only node 3 is off.
         assert!(matches!(
             InterfaceGeometry::new(&quad([0., 0.], [1., 0.], [1.1, 0.], [0., 0.])),
-            Err(InterfaceGeometryError::NotFacing { bottom: 2, top: 3, .. })
+            Err(InterfaceGeometryError::NotFacing {
+                bottom: 2,
+                top: 3,
+                ..
+            })
         ));
         // ...but accepted with a looser tolerance.
-        assert!(InterfaceGeometry::with_tolerance(&quad([0., 0.], [1., 0.], [1.1, 0.], [0., 0.]), 0.2).is_ok());
+        assert!(
+            InterfaceGeometry::with_tolerance(&quad([0., 0.], [1., 0.], [1.1, 0.], [0., 0.]), 0.2)
+                .is_ok()
+        );
         assert_eq!(
             InterfaceGeometry::with_tolerance(&quad([0., 0.], [1., 0.], [1., 0.], [0., 0.]), -1.0),
             Err(InterfaceGeometryError::InvalidTolerance(-1.0))
@@ -422,6 +453,10 @@ mod tests {
         let g = InterfaceGeometry::new(&nodes).unwrap();
         // Normal points outwards (from core to layer) at the chord midpoint.
         let mid = 0.5 * (a0 + a1);
-        assert_relative_eq!(g.normal(), Vector2::new(mid.cos(), mid.sin()), epsilon = 1e-12);
+        assert_relative_eq!(
+            g.normal(),
+            Vector2::new(mid.cos(), mid.sin()),
+            epsilon = 1e-12
+        );
     }
 }
