@@ -166,6 +166,12 @@ impl GhaboussiNormal {
     pub fn strain(&self, du_n: f64) -> f64 {
         du_n / self.thickness
     }
+    /// Shear stiffness per unit area `k_s = G/t` (Pa/m) of this joint for a
+    /// joint shear modulus `G` (Pa): the paper's "k_s = G" in strain form,
+    /// to pass to [`crate::MohrCoulomb::new`] or [`crate::ElasticJoint::new`].
+    pub fn shear_stiffness(&self, shear_modulus: f64) -> f64 {
+        shear_modulus / self.thickness
+    }
 }
 
 impl NormalLaw for GhaboussiNormal {

@@ -340,6 +340,21 @@ fn linear_tangent_is_jump_gram_times_rotated_stiffness() {
 }
 
 #[test]
+fn b_matrix_maps_displacements_to_jumps() {
+    for rule in RULES {
+        let e = InterfaceElement::with_quadrature(
+            &element_nodes(Vector2::new(0.5, 0.1), -1.2, 0.3),
+            rule,
+        )
+        .unwrap();
+        let u = Vector8::from_fn(|i, _| 1e-6 * ((i * 7 % 5) as f64 - 2.0));
+        for (p, j) in e.points().iter().zip(e.jumps(&u)) {
+            assert_relative_eq!(e.b_matrix(p) * u, j, max_relative = 1e-12);
+        }
+    }
+}
+
+#[test]
 fn point_output_reports_jump_traction_status_slip() {
     let law = paper_joint();
     let e = InterfaceElement::new(&element_nodes(Vector2::zeros(), 0.0, 0.2)).unwrap();

@@ -159,6 +159,7 @@ fn ghaboussi_three_stages() {
             hi.sigma
         );
     }
+    assert_relative_eq!(g.shear_stiffness(8.0e8), 8.0e8 / t, max_relative = 1e-15);
     // Smooth surfaces: no crushing stage.
     let s = GhaboussiNormal::smooth(2.0e11, 1.0e-3).unwrap();
     assert_eq!(s.normal(-1e-9, 0.0).stage, NormalStage::Contact);
