@@ -1,1 +1,70 @@
-//! placeholder
+//! # tecon-wavelet-bem: Saint-Venant torsion by a wavelet boundary integral method
+//!
+//! Prandtl stress function u (Gθ = 1): ∇²u = −2 in Ω, u = 0 on Γ. With the
+//! particular solution u_p = −|x − x₀|²/2, v = u − u_p is harmonic with
+//! v = g = |x − x₀|²/2 on Γ, and its flux q_v solves the augmented first-kind
+//! system (never the bare one, which is singular at logarithmic capacity 1)
+//!
+//! ```text
+//! V q_v + c = (½I + K) g,   ∮ q_v ds = 0,   J = I_p − ½ ∮ |x − x₀|² q_v ds.
+//! ```
+//!
+//! Three discretisations share the graded periodic parametrisation
+//! ([`grading`]) and the log-kernel split ln|x(s) − x(t)| = ln|2 sin π(s − t)| + L(s, t):
+//! periodised Daubechies wavelet Galerkin ([`galerkin`], the default), harmonic
+//! (Shannon) wavelet Galerkin ([`shannon`], spectral) and Kress Nyström
+//! ([`nystrom`], the reference).
+//!
+//! ```no_run
+//! use tecon_wavelet_bem::{sections, solve, Options};
+//! let sec = sections::ellipse(2.0, 1.0).unwrap();
+//! let sol = solve(&sec, &Options::default()).unwrap();
+//! println!("J = {}", sol.torsional_rigidity);
+//! ```
+//!
+//! ## Glossary
+//!
+//! | symbol | meaning |
+//! |---|---|
+//! | Ω, Γ | section and its boundary (counter-clockwise) |
+//! | u | Prandtl stress function, ∇²u = −2, u = 0 on Γ (Gθ = 1) |
+//! | q | ∂u/∂n on Γ (≤ 0); boundary shear stress τ = \|q\| |
+//! | x₀ | centroid; u_p = −\|x − x₀\|²/2 |
+//! | g | \|x − x₀\|²/2, Dirichlet data of v = u − u_p |
+//! | q_v | ∂v/∂n, unknown of the boundary equation; q = q_v − (x − x₀)·n |
+//! | w | fundamental solution −(1/2π) ln\|x − y\| |
+//! | V, K | single- and double-layer operators |
+//! | c | Lagrange multiplier of the augmented system (exactly 0) |
+//! | J | torsional rigidity 2∫u dA; torque T = GθJ |
+//! | I_p | polar moment ¼∮\|x − x₀\|² (x − x₀)·n ds |
+//! | t | periodic boundary parameter in [0, 1) |
+//! | μ | density per parameter q_v(x(t)) \|x′(t)\| |
+//! | L | smooth log remainder ln\|x(t) − x(s)\| − ln\|2 sin π(t − s)\| |
+//! | p | Kress grading exponent |
+//! | n, J | number of unknowns, n = 2^J for Daubechies |
+//! | N (N_v) | Daubechies order = number of vanishing moments (dbN) |
+//! | h_k, g_k | low- and high-pass filters; c_k = √2 h_k |
+//! | φ, ψ, φ̂ | scaling function, wavelet, Fourier transform of φ |
+//! | Φ, p_j, M_m | autocorrelation of φ, its filter and moments |
+//! | a(d) | ∫∫ φ(X) φ(Y) ln\|X − Y + d\| dX dY |
+//! | W | periodised fast wavelet transform (orthogonal) |
+//! | ε | compression threshold relative to max\|a_ij\| |
+
+pub mod analytical;
+pub mod daubechies;
+pub mod density;
+pub mod error;
+pub mod galerkin;
+pub mod geometry;
+pub mod grading;
+pub mod kernels;
+pub mod linalg;
+pub mod nystrom;
+pub mod quadrature;
+pub mod sections;
+pub mod shannon;
+pub mod solve;
+
+pub use error::{GeometryError, SolveError, SpecError};
+pub use geometry::{Piece, Section};
+pub use solve::{solve, LinearSolver, Method, Options, TorsionSolution};

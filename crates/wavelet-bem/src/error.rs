@@ -1,0 +1,123 @@
+//! Typed errors of the crate.
+
+use thiserror::Error;
+
+/// Invalid boundary geometry.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum GeometryError {
+    /// No pieces at all.
+    #[error("the section has no boundary pieces")]
+    Empty,
+    /// A non-finite or out-of-range parameter.
+    #[error("piece {piece}: invalid parameter (non-finite, non-positive radius/axis, or limaçon c outside [0, 1/2])")]
+    InvalidParameter {
+        /// piece index
+        piece: usize,
+    },
+    /// A piece of (nearly) zero length.
+    #[error("piece {piece} is degenerate (length {length:e})")]
+    Degenerate {
+        /// piece index
+        piece: usize,
+        /// its length
+        length: f64,
+    },
+    /// Piece k does not end where piece k+1 starts.
+    #[error("boundary not closed: piece {piece} ends {gap:e} away from the start of the next piece")]
+    NotClosed {
+        /// piece index
+        piece: usize,
+        /// gap length
+        gap: f64,
+    },
+    /// The boundary crosses itself.
+    #[error("boundary is self-intersecting near ({:.6}, {:.6})", near[0], near[1])]
+    SelfIntersecting {
+        /// a point near the crossing
+        near: [f64; 2],
+    },
+    /// The enclosed area vanishes.
+    #[error("the boundary encloses no area")]
+    ZeroArea,
+    /// Two consecutive pieces fold back on each other.
+    #[error("junction {junction}: the boundary folds back on itself (zero interior angle)")]
+    ZeroAngle {
+        /// junction index
+        junction: usize,
+    },
+    /// Too few polygon vertices.
+    #[error("a polygon needs at least 3 vertices, got {0}")]
+    TooFewVertices(usize),
+}
+
+/// A bad `--section` specification or section file.
+#[derive(Debug, Error)]
+pub enum SpecError {
+    /// Unknown section kind.
+    #[error("unknown section kind `{0}` (expected circle, ellipse, rectangle, triangle, polygon, regular, groove, limacon, or a file path)")]
+    UnknownKind(String),
+    /// A required field is missing.
+    #[error("{kind}: missing field `{field}`")]
+    MissingField {
+        /// section kind
+        kind: String,
+        /// field name
+        field: String,
+    },
+    /// A field does not parse or is out of range.
+    #[error("{kind}: bad value `{value}` for field `{field}`: {reason}")]
+    BadValue {
+        /// section kind
+        kind: String,
+        /// field name
+        field: String,
+        /// the offending text
+        value: String,
+        /// why it is rejected
+        reason: String,
+    },
+    /// The file cannot be read.
+    #[error("cannot read section file `{path}`: {source}")]
+    Io {
+        /// file path
+        path: String,
+        /// underlying error
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML.
+    #[error("section file `{path}`: {message}")]
+    Toml {
+        /// file path
+        path: String,
+        /// parser message (names the offending key/line)
+        message: String,
+    },
+    /// The geometry is invalid.
+    #[error("invalid section geometry: {0}")]
+    Geometry(#[from] GeometryError),
+}
+
+/// Failure of a solve.
+#[derive(Debug, Error)]
+pub enum SolveError {
+    /// Unsupported number of unknowns.
+    #[error("bad number of unknowns n = {n}: {reason}")]
+    BadN {
+        /// requested n
+        n: usize,
+        /// why
+        reason: String,
+    },
+    /// Unsupported wavelet name.
+    #[error("unknown wavelet `{0}` (expected db1 … db20)")]
+    BadWavelet(String),
+    /// Bad grading exponent.
+    #[error("grading exponent must be an integer in 2..=12, got {0}")]
+    BadGrading(f64),
+    /// The linear system is (numerically) singular or the iteration failed.
+    #[error("linear solve failed: {0}")]
+    Linear(String),
+    /// The result is not finite.
+    #[error("the solution is not finite (ill-posed geometry or too few unknowns)")]
+    NonFinite,
+}

@@ -1,0 +1,77 @@
+//! Kernel samples on a grid of boundary nodes, shared by all solvers.
+//!
+//! With nodes t_a = (a + ½)/n (so t_a − t_b = (a − b)/n exactly):
+//!
+//! * `L(t_a, t_b) = ln|x(t_a) − x(t_b)| − ln|2 sin π(t_a − t_b)|`, with the
+//!   diagonal limit `L(t, t) = ln(|x′(t)| / 2π)`;
+//! * `f(t_a) = ∮ (g(y) − g(x_a)) ∂w/∂n_y ds_y`, g = |x − x₀|²/2, by the
+//!   trapezoidal rule (the integrand is smooth and vanishes at y = x_a);
+//! * `g2(t_a) = |x(t_a) − x₀|²` for the functional J.
+//!
+//! Rows are computed independently in parallel, so the result does not
+//! depend on the number of threads.
+
+use crate::grading::{diff, BPoint};
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+/// Row-major n×n matrix of the smooth log remainder L at the nodes.
+pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
+    let n = nodes.len();
+    let mut out = vec![0.0; n * n];
+    let sines: Vec<f64> = (0..n).map(|k| (2.0 * (PI * k as f64 / n as f64).sin()).abs().ln()).collect();
+    out.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
+        let xi = &nodes[i];
+        for (j, r) in row.iter_mut().enumerate() {
+            if i == j {
+                *r = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+            } else {
+                let d = diff(xi, &nodes[j]);
+                let k = if i > j { i - j } else { j - i };
+                *r = d[0].hypot(d[1]).max(f64::MIN_POSITIVE).ln() - sines[k];
+            }
+        }
+    });
+    out
+}
+
+/// Right-hand side f(t_a) = ((½I + K) g)(x_a) in subtracted form, trapezoidal rule.
+pub fn rhs(nodes: &[BPoint], x0: [f64; 2]) -> Vec<f64> {
+    let n = nodes.len();
+    let h = 1.0 / n as f64;
+    (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let xi = &nodes[i];
+            let pi = xi.x();
+            let mut acc = 0.0;
+            for (j, yj) in nodes.iter().enumerate() {
+                if j == i {
+                    continue;
+                }
+                let d = diff(xi, yj); // x − y
+                let py = yj.x();
+                // g(y) − g(x) = ½ (y − x)·(y + x − 2x₀)
+                let dg = -0.5 * (d[0] * (py[0] + pi[0] - 2.0 * x0[0]) + d[1] * (py[1] + pi[1] - 2.0 * x0[1]));
+                // (x − y)·n_y |y′| = (x−y)₁ y′₂ − (x−y)₂ y′₁
+                let num = d[0] * yj.d1[1] - d[1] * yj.d1[0];
+                let r2 = d[0] * d[0] + d[1] * d[1];
+                if r2 > 0.0 {
+                    acc += dg * num / (2.0 * PI * r2);
+                }
+            }
+            acc * h
+        })
+        .collect()
+}
+
+/// g2(t_a) = |x(t_a) − x₀|².
+pub fn radius_sq(nodes: &[BPoint], x0: [f64; 2]) -> Vec<f64> {
+    nodes
+        .iter()
+        .map(|p| {
+            let x = p.x();
+            (x[0] - x0[0]).powi(2) + (x[1] - x0[1]).powi(2)
+        })
+        .collect()
+}

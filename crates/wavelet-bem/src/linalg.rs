@@ -1,0 +1,142 @@
+//! Dense LU (faer) and the projected preconditioned conjugate gradient method
+//! used on the compressed wavelet-basis matrix.
+
+use crate::error::SolveError;
+use faer::Mat;
+use faer::prelude::Solve;
+
+/// Solves the dense row-major system A x = b of order n by partial-pivoting LU (faer).
+pub fn dense_lu_solve(n: usize, a: &[f64], b: &[f64]) -> Result<Vec<f64>, SolveError> {
+    let m = Mat::<f64>::from_fn(n, n, |i, j| a[i * n + j]);
+    let lu = m.partial_piv_lu();
+    let rhs = Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+    let x = lu.solve(&rhs);
+    let out: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+    if out.iter().all(|v| v.is_finite()) {
+        Ok(out)
+    } else {
+        Err(SolveError::Linear("LU produced non-finite values (singular matrix)".into()))
+    }
+}
+
+/// Singular values (descending) of a dense row-major n×n matrix.
+pub fn singular_values(n: usize, a: &[f64]) -> Result<Vec<f64>, SolveError> {
+    let m = Mat::<f64>::from_fn(n, n, |i, j| a[i * n + j]);
+    m.singular_values().map_err(|e| SolveError::Linear(format!("SVD failed: {e:?}")))
+}
+
+/// A compressed symmetric matrix in CSR form.
+#[derive(Clone, Debug)]
+pub struct Csr {
+    /// order
+    pub n: usize,
+    /// row pointers
+    pub indptr: Vec<usize>,
+    /// column indices
+    pub indices: Vec<usize>,
+    /// values
+    pub data: Vec<f64>,
+}
+
+impl Csr {
+    /// y = A x (rows independent: deterministic for any thread count).
+    pub fn matvec(&self, x: &[f64], y: &mut [f64]) {
+        use rayon::prelude::*;
+        y.par_iter_mut().enumerate().for_each(|(i, yi)| {
+            let mut s = 0.0;
+            for k in self.indptr[i]..self.indptr[i + 1] {
+                s += self.data[k] * x[self.indices[k]];
+            }
+            *yi = s;
+        });
+    }
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.data.len()
+    }
+}
+
+/// Thresholds a dense row-major symmetric matrix: keeps |a_ij| ≥ ε·max|a|.
+pub fn threshold(n: usize, a: &[f64], eps: f64) -> Csr {
+    let amax = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let cut = eps * amax;
+    let mut indptr = vec![0usize];
+    let mut indices = Vec::new();
+    let mut data = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let v = a[i * n + j];
+            if v.abs() >= cut {
+                indices.push(j);
+                data.push(v);
+            }
+        }
+        indptr.push(indices.len());
+    }
+    Csr { n, indptr, indices, data }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Projected preconditioned CG for `A x + c e = f, eᵀx = 0` with A symmetric
+/// positive definite on e^⊥ (the single-layer operator is, on densities of
+/// zero mean). The preconditioner is the diagonal `d` (level scaling), projected
+/// onto e^⊥. Returns (x, c, iterations, relative residual).
+pub fn projected_pcg(
+    a: &Csr,
+    e: &[f64],
+    f: &[f64],
+    d: &[f64],
+    tol: f64,
+    max_iter: usize,
+) -> Result<(Vec<f64>, f64, usize, f64), SolveError> {
+    let n = a.n;
+    let ee = dot(e, e);
+    let proj = |v: &mut [f64]| {
+        let s = dot(e, v) / ee;
+        for (vi, ei) in v.iter_mut().zip(e) {
+            *vi -= s * ei;
+        }
+    };
+    let mut x = vec![0.0; n];
+    let mut r = f.to_vec();
+    proj(&mut r);
+    let bnorm = dot(&r, &r).sqrt().max(f64::MIN_POSITIVE);
+    let mut z: Vec<f64> = r.iter().zip(d).map(|(ri, di)| ri / di).collect();
+    proj(&mut z);
+    let mut p = z.clone();
+    let mut rz = dot(&r, &z);
+    let mut ap = vec![0.0; n];
+    let mut it = 0;
+    let mut rel = dot(&r, &r).sqrt() / bnorm;
+    while it < max_iter && rel > tol {
+        a.matvec(&p, &mut ap);
+        proj(&mut ap);
+        let pap = dot(&p, &ap);
+        if !(pap > 0.0) {
+            return Err(SolveError::Linear(format!("CG breakdown (pᵀAp = {pap:e}) at iteration {it}")));
+        }
+        let alpha = rz / pap;
+        for i in 0..n {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * ap[i];
+        }
+        z = r.iter().zip(d).map(|(ri, di)| ri / di).collect();
+        proj(&mut z);
+        let rz2 = dot(&r, &z);
+        let beta = rz2 / rz;
+        rz = rz2;
+        for i in 0..n {
+            p[i] = z[i] + beta * p[i];
+        }
+        it += 1;
+        rel = dot(&r, &r).sqrt() / bnorm;
+    }
+    // multiplier from the e-component of the residual: c = eᵀ(f − A x)/eᵀe
+    let mut ax = vec![0.0; n];
+    a.matvec(&x, &mut ax);
+    let c = e.iter().zip(f.iter().zip(&ax)).map(|(ei, (fi, ai))| ei * (fi - ai)).sum::<f64>() / ee;
+    Ok((x, c, it, rel))
+}
