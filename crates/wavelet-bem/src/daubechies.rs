@@ -229,7 +229,8 @@ impl Daubechies {
             for r in 0..m {
                 s += binom(m, r) * mm[r] * ps[m - r];
             }
-            mm.push(s * 0.5f64.powi(m as i32 + 1) / (1.0 - 0.5f64.powi(m as i32)));
+            // Φ is interpolating (Φ(k) = δ_k): its moments 1 … 2N − 1 vanish exactly
+            mm.push(if m < 2 * self.order { 0.0 } else { s * 0.5f64.powi(m as i32 + 1) / (1.0 - 0.5f64.powi(m as i32)) });
         }
         mm
     }
@@ -261,7 +262,9 @@ impl Daubechies {
     }
 
     /// Far-field value a(e) = ln|e| − Σ_k M_{2k} / (2k e^{2k}) for |e| beyond the support.
-    fn a_far(e: f64, mm: &[f64]) -> f64 {
+    /// (M_2 … M_{2N−2} vanish, so the early terms are zero and the loop
+    /// only stops on a small term beyond them.)
+    fn a_far(&self, e: f64, mm: &[f64]) -> f64 {
         let e = e.abs();
         let mut s = e.ln();
         let inv2 = 1.0 / (e * e);
@@ -269,7 +272,7 @@ impl Daubechies {
         for k in 1..mm.len() / 2 {
             let term = mm[2 * k] / (2.0 * k as f64) * pw;
             s -= term;
-            if term.abs() < 1e-19 * s.abs().max(1.0) {
+            if k >= self.order && term.abs() < 1e-19 * s.abs().max(1.0) {
                 break;
             }
             pw *= inv2;
@@ -296,12 +299,12 @@ impl Daubechies {
                 if e <= big {
                     a[(d, e)] -= 0.5 * pj;
                 } else {
-                    b[d] += 0.5 * pj * Self::a_far(e as f64, &mm);
+                    b[d] += 0.5 * pj * self.a_far(e as f64, &mm);
                 }
             }
         }
         let sol = a.lu().solve(&b).unwrap_or_else(|| nalgebra::DVector::from_element(nd, f64::NAN));
-        (0..=dmax).map(|d| if d <= big { sol[d] } else { Self::a_far(d as f64, &mm) }).collect()
+        (0..=dmax).map(|d| if d <= big { sol[d] } else { self.a_far(d as f64, &mm) }).collect()
     }
 
     /// Smallest n = 2^J for which the periodised log-kernel Galerkin row is
@@ -333,7 +336,7 @@ impl Daubechies {
                 for k in 1..mm.len() / 2 {
                     let term = mm[2 * k] / (2.0 * k as f64) * pw * zeta_pair(2 * k as i32, x);
                     corr += term;
-                    if term.abs() < 1e-19 {
+                    if k >= self.order && term.abs() < 1e-19 {
                         break;
                     }
                     pw *= inv;
