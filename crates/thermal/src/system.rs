@@ -1,0 +1,430 @@
+//! The assembled spatial operator: conductivity K (conduction + convection
+//! + interfaces), capacity C, load F, prescribed temperatures — assembled
+//! once, combined per time step by the stepper.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use tecon_fem::interface::{InterfaceGeometry, InterfaceQuadrature};
+use tecon_fem::{
+    Assembler, CholeskySolver, CsrMatrix, Dirichlet, DofMap, FemError, Parallelism,
+    PreparedDirichlet, RigidMode, check_rigid_modes, scalar_mode,
+};
+use tecon_mesh::Mesh;
+
+use crate::error::ThermalError;
+use crate::kernels::{
+    CapacityElements, ConductionElements, ConvectionEdges, InterfaceElements, triangle_geometry,
+};
+use crate::output::{HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
+use crate::stepper::ThetaStepper;
+
+/// One row of the unconstrained C and K at a prescribed-temperature dof
+/// (for the reaction in the heat balance).
+#[derive(Debug, Clone)]
+pub(crate) struct ConstrainedRow {
+    pub dof: usize,
+    pub cols: Vec<usize>,
+    pub c: Vec<f64>,
+    pub k: Vec<f64>,
+}
+
+/// Range of one named interface inside the flattened interface elements.
+#[derive(Debug, Clone)]
+pub(crate) struct InterfaceRange {
+    pub name: String,
+    pub range: std::ops::Range<usize>,
+}
+
+/// The assembled thermal system of a [`crate::ThermalModel`].
+///
+/// Holds the matrices `K` (conduction, convective edges, interface
+/// elements) and `C` (capacity) on one sparsity pattern, the load `F`
+/// (convective ambient and prescribed fluxes), the prescribed
+/// temperatures, and what the heat balance and the output need.
+#[derive(Debug)]
+pub struct ThermalSystem<'m> {
+    pub(crate) mesh: &'m Mesh,
+    pub(crate) element_conductivity: Vec<f64>,
+    pub(crate) assembler: Assembler,
+    pub(crate) k: CsrMatrix,
+    pub(crate) c: CsrMatrix,
+    pub(crate) load: Vec<f64>,
+    pub(crate) dirichlet: Dirichlet,
+    pub(crate) prepared: PreparedDirichlet,
+    pub(crate) constrained: Vec<ConstrainedRow>,
+    pub(crate) capacity_weights: Vec<f64>,
+    /// Column sums of the convective matrix and convective load per node,
+    /// `(node, Σ_e hL/2, Σ_e hT∞L/2)`.
+    pub(crate) convective_weights: Vec<(usize, f64, f64)>,
+    /// Row sums of K as the operator sees them: the convective column
+    /// sums (conduction and interface rows sum to zero in exact arithmetic).
+    pub(crate) row_sums: Vec<f64>,
+    /// `Σ_i w_i`.
+    pub(crate) total_capacity: f64,
+    /// Prescribed-flux load per node, `(node, Σ_e q_in L/2)`.
+    pub(crate) flux_nodes: Vec<(usize, f64)>,
+    /// `Σ_e h T∞ L`.
+    pub(crate) convective_load: f64,
+    /// `Σ_e q_in L`.
+    pub(crate) flux_load: f64,
+    pub(crate) interface_elements: InterfaceElements,
+    pub(crate) interface_ranges: Vec<InterfaceRange>,
+    pub(crate) modes: Vec<RigidMode>,
+    pub(crate) initial: Option<Vec<f64>>,
+    pub(crate) region_initial: Option<Vec<f64>>,
+}
+
+/// Everything the model hands to [`ThermalSystem::build`].
+pub(crate) struct SystemInput<'m> {
+    pub mesh: &'m Mesh,
+    pub conductivity: Vec<f64>,
+    pub rho_c: Vec<f64>,
+    pub capacity: crate::CapacityKind,
+    pub convection: ConvectionEdges,
+    /// (node, q_in L/2) contributions.
+    pub flux_loads: Vec<(usize, f64)>,
+    pub dirichlet: Dirichlet,
+    pub interfaces: InterfaceElements,
+    pub interface_ranges: Vec<InterfaceRange>,
+    pub initial: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+impl<'m> ThermalSystem<'m> {
+    pub(crate) fn build(input: SystemInput<'m>) -> Result<Self, ThermalError> {
+        let mesh = input.mesh;
+        let n = mesh.n_nodes();
+        let nodes = mesh.nodes();
+        let triangles = mesh.triangles();
+        let cond = ConductionElements {
+            nodes,
+            triangles,
+            conductivity: &input.conductivity,
+        };
+        let cap = CapacityElements {
+            nodes,
+            triangles,
+            rho_c: &input.rho_c,
+            kind: input.capacity,
+        };
+        let mut builder = tecon_fem::AssemblerBuilder::new(n);
+        let b_tri = builder.add_elements(&cond);
+        let b_conv = builder.add_elements(&input.convection);
+        let b_int = builder.add_elements(&input.interfaces);
+        let assembler = builder.build()?;
+        let mut k = assembler.new_matrix();
+        let mut c = assembler.new_matrix();
+        let mut load = vec![0.0; n];
+        assembler.add(b_tri, &cond, &mut k, None, Parallelism::Rayon)?;
+        assembler.add(
+            b_conv,
+            &input.convection,
+            &mut k,
+            Some(&mut load),
+            Parallelism::Rayon,
+        )?;
+        assembler.add(b_int, &input.interfaces, &mut k, None, Parallelism::Rayon)?;
+        assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
+        let mut flux_load = 0.0;
+        let mut flux_node = vec![0.0; n];
+        for &(node, f) in &input.flux_loads {
+            load[node] += f;
+            flux_node[node] += f;
+            flux_load += f;
+        }
+        let flux_nodes = flux_node
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| **f != 0.0)
+            .map(|(i, &f)| (i, f))
+            .collect();
+        let mut conv_w = vec![0.0; n];
+        let mut conv_f = vec![0.0; n];
+        let mut convective_load = 0.0;
+        let cv = &input.convection;
+        for e in 0..cv.edges.len() {
+            let w = 0.5 * cv.h[e] * cv.length[e];
+            for a in cv.edges[e] {
+                conv_w[a] += w;
+                conv_f[a] += w * cv.ambient[e];
+            }
+            convective_load += cv.h[e] * cv.ambient[e] * cv.length[e];
+        }
+        let row_sums = conv_w.clone();
+        let convective_weights = conv_w
+            .iter()
+            .zip(&conv_f)
+            .enumerate()
+            .filter(|(_, (w, _))| **w != 0.0)
+            .map(|(i, (&w, &f))| (i, w, f))
+            .collect();
+        let ones = vec![1.0; n];
+        let mut capacity_weights = vec![0.0; n];
+        c.mul_vec(&ones, &mut capacity_weights);
+        let prepared = input.dirichlet.prepare(assembler.pattern())?;
+        let p = assembler.pattern();
+        let constrained = input
+            .dirichlet
+            .iter()
+            .map(|(dof, _)| {
+                let r = p.indptr()[dof]..p.indptr()[dof + 1];
+                ConstrainedRow {
+                    dof,
+                    cols: p.indices()[r.clone()].to_vec(),
+                    c: c.values()[r.clone()].to_vec(),
+                    k: k.values()[r].to_vec(),
+                }
+            })
+            .collect();
+        let dofmap = DofMap::new(n, 1);
+        let modes = mesh
+            .bodies()
+            .iter()
+            .map(|b| scalar_mode(&dofmap, &b.name, &b.nodes, "uniform temperature"))
+            .collect();
+        let (initial, region_initial) = match input.initial {
+            Some((mut t0, reg)) => {
+                // Prescribed temperatures override the initial field at t = 0.
+                for (dof, v) in input.dirichlet.iter() {
+                    t0[dof] = v;
+                }
+                (Some(t0), Some(reg))
+            }
+            None => (None, None),
+        };
+        let total_capacity: f64 = capacity_weights.iter().sum();
+        Ok(ThermalSystem {
+            mesh,
+            element_conductivity: input.conductivity,
+            assembler,
+            k,
+            c,
+            load,
+            dirichlet: input.dirichlet,
+            prepared,
+            constrained,
+            capacity_weights,
+            convective_weights,
+            convective_load,
+            flux_load,
+            flux_nodes,
+            row_sums,
+            total_capacity,
+            interface_elements: input.interfaces,
+            interface_ranges: input.interface_ranges,
+            modes,
+            initial,
+            region_initial,
+        })
+    }
+
+    /// Number of nodal unknowns.
+    pub fn n_nodes(&self) -> usize {
+        self.mesh.n_nodes()
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &'m Mesh {
+        self.mesh
+    }
+
+    /// Conductivity matrix K (conduction + convective edges + interfaces),
+    /// without the prescribed temperatures applied.
+    pub fn conductivity_matrix(&self) -> &CsrMatrix {
+        &self.k
+    }
+
+    /// Capacity matrix C (consistent or lumped), on the same pattern as K.
+    pub fn capacity_matrix(&self) -> &CsrMatrix {
+        &self.c
+    }
+
+    /// Load vector F (convective `hT∞L/2` and prescribed-flux `q L/2` terms).
+    pub fn load(&self) -> &[f64] {
+        &self.load
+    }
+
+    /// The prescribed temperatures (dof = node).
+    pub fn prescribed(&self) -> &Dirichlet {
+        &self.dirichlet
+    }
+
+    /// The assembler (pattern and element→slot maps).
+    pub fn assembler(&self) -> &Assembler {
+        &self.assembler
+    }
+
+    /// Initial nodal temperatures (prescribed values imposed), if the model
+    /// has an initial temperature.
+    pub fn initial_temperature(&self) -> Option<&[f64]> {
+        self.initial.as_deref()
+    }
+
+    /// Reference temperature of each element for the thermal strain
+    /// `α (T_e − T_ref,e)`: the element mean of the initial nodal field, so
+    /// that the initial state is exactly free of thermal strain.
+    pub fn reference_temperature(&self) -> Option<Vec<f64>> {
+        self.initial.as_ref().map(|t| self.element_means(t))
+    }
+
+    /// The initial temperature of each element's region (the piecewise
+    /// constant field before the border rule), e.g. 1132 °C for every weld
+    /// element. An alternative reference for the thermal strain.
+    pub fn region_initial_temperature(&self) -> Option<&[f64]> {
+        self.region_initial.as_deref()
+    }
+
+    /// Capacity weights `w = C·1` (the stored heat is `Σ w_i T_i`).
+    pub fn capacity_weights(&self) -> &[f64] {
+        &self.capacity_weights
+    }
+
+    /// A θ-method stepper starting from `initial` at time `t0`.
+    pub fn stepper(&self, initial: Vec<f64>, t0: f64) -> Result<ThetaStepper<'_, 'm>, ThermalError> {
+        ThetaStepper::new(self, initial, t0)
+    }
+
+    /// Solves the steady problem `K T = F` with the prescribed temperatures.
+    ///
+    /// Errors with [`ThermalError::SingularSteady`] naming the body (or the
+    /// bodies joined by interfaces) that has neither a prescribed
+    /// temperature nor convection.
+    pub fn solve_steady(&self) -> Result<Snapshot, ThermalError> {
+        let mut a = self.k.clone();
+        let mut rhs = self.load.clone();
+        self.prepared.apply(&mut a, &mut rhs);
+        check_rigid_modes(&a, &self.modes).map_err(|e| match e {
+            FemError::Unconstrained {
+                description,
+                bodies,
+                ..
+            } => ThermalError::SingularSteady {
+                description,
+                bodies,
+            },
+            other => ThermalError::Fem(other),
+        })?;
+        let mut solver = CholeskySolver::analyse(Arc::clone(self.assembler.pattern()))?;
+        solver.factorise(&a)?;
+        solver.solve(&mut rhs)?;
+        let t = rhs;
+        // Steady balance (rates): 0 = convection + flux + reactions.
+        let mut kt = vec![0.0; t.len()];
+        self.k.mul_vec(&t, &mut kt);
+        let reactions: Vec<f64> = self
+            .constrained
+            .iter()
+            .map(|r| kt[r.dof] - self.load[r.dof])
+            .collect();
+        let (convection_in, conv_gross) = self.convection_in_rate(&t);
+        let balance = HeatBalance {
+            stored_change: 0.0,
+            convection_in,
+            flux_in: self.flux_load,
+            prescribed_in: reactions.iter().sum(),
+            residual: 0.0,
+            scale: conv_gross
+                + self.flux_gross()
+                + reactions.iter().map(|r| r.abs()).sum::<f64>(),
+        }
+        .close();
+        Ok(self.snapshot(0.0, 0, t, balance))
+    }
+
+    /// Convective heat gain rate `−Σ_e ∫ h (T − T∞) ds` for nodal field `t`,
+    /// and its gross value `Σ_i |per-node gain|`.
+    pub(crate) fn convection_in_rate(&self, t: &[f64]) -> (f64, f64) {
+        let (mut net, mut gross) = (0.0, 0.0);
+        for &(i, w, f) in &self.convective_weights {
+            let g = f - w * t[i];
+            net += g;
+            gross += g.abs();
+        }
+        (net, gross)
+    }
+
+    /// `Σ_i |prescribed-flux load at node i|`.
+    pub(crate) fn flux_gross(&self) -> f64 {
+        self.flux_nodes.iter().map(|(_, f)| f.abs()).sum()
+    }
+
+    /// Element means of a nodal field.
+    pub fn element_means(&self, t: &[f64]) -> Vec<f64> {
+        self.mesh
+            .triangles()
+            .par_iter()
+            .map(|tri| (t[tri[0]] + t[tri[1]] + t[tri[2]]) / 3.0)
+            .collect()
+    }
+
+    /// Builds the output of nodal field `t` at `time`.
+    pub fn snapshot(&self, time: f64, step: usize, t: Vec<f64>, balance: HeatBalance) -> Snapshot {
+        let nodes = self.mesh.nodes();
+        let tris = self.mesh.triangles();
+        let (gradient, flux): (Vec<[f64; 2]>, Vec<[f64; 2]>) = tris
+            .par_iter()
+            .zip(self.element_conductivity.par_iter())
+            .map(|(tri, &k)| {
+                let g = triangle_geometry(nodes, *tri);
+                let mut grad = [0.0; 2];
+                for a in 0..3 {
+                    grad[0] += g.dndx[a] * t[tri[a]];
+                    grad[1] += g.dndy[a] * t[tri[a]];
+                }
+                (grad, [-k * grad[0], -k * grad[1]])
+            })
+            .unzip();
+        let ie = &self.interface_elements;
+        let interfaces = self
+            .interface_ranges
+            .iter()
+            .map(|r| {
+                let elements: Vec<InterfaceFlux> = r
+                    .range
+                    .clone()
+                    .map(|e| interface_flux(&ie.geometry[e], ie.rule[e], ie.h_c[e], ie.nodes[e], &t))
+                    .collect();
+                let heat_rate = elements.iter().map(|f| f.heat_rate).sum();
+                InterfaceResult {
+                    name: r.name.clone(),
+                    elements,
+                    heat_rate,
+                }
+            })
+            .collect();
+        Snapshot {
+            time,
+            step,
+            element_temperature: self.element_means(&t),
+            temperature: t,
+            gradient,
+            flux,
+            interfaces,
+            balance,
+        }
+    }
+}
+
+fn interface_flux(
+    g: &InterfaceGeometry,
+    rule: InterfaceQuadrature,
+    h_c: [f64; 2],
+    nodes: [usize; 4],
+    t: &[f64],
+) -> InterfaceFlux {
+    let tv = nalgebra::Vector4::new(t[nodes[0]], t[nodes[1]], t[nodes[2]], t[nodes[3]]);
+    let pts = g.points(rule);
+    let mut jump = [0.0; 2];
+    let mut flux = [0.0; 2];
+    let mut heat_rate = 0.0;
+    for (p, pt) in pts.iter().enumerate() {
+        jump[p] = pt.jump_operator().dot(&tv);
+        flux[p] = h_c[p] * jump[p];
+        heat_rate += pt.weight * flux[p];
+    }
+    InterfaceFlux {
+        jump,
+        flux,
+        heat_rate,
+    }
+}
