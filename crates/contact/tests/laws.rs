@@ -219,6 +219,34 @@ proptest! {
         prop_assert!(e < FD_TOL, "error {e:e} at {j:?} {state:?}");
     }
 
+    /// Invariants of the return mapping for any jump and committed state:
+    /// the traction is admissible (|τ| ≤ s), the elastic relation
+    /// τ = k_s (Δu_t − g_s) holds with the updated slip whenever the faces
+    /// are closed, slip only grows in the direction of τ, and the
+    /// accumulated slip grows by exactly |Δg_s|.
+    #[test]
+    fn mohr_coulomb_return_mapping_invariants(
+        dut in -1.0e-4..1.0e-4_f64,
+        dun in -3.0e-6..1.0e-6_f64,
+        slip in -5.0e-5..5.0e-5_f64,
+        c in 0.0..2.0e6_f64,
+        phi_deg in 0.0..60.0_f64,
+    ) {
+        let law = MohrCoulomb::new(rough_ghaboussi(), 3.0e11, c, phi_deg.to_radians()).unwrap();
+        let st = JointState { slip, accumulated_slip: 1.0e-3, lambda_n: 0.0 };
+        let r = law.evaluate(&Vector2::new(dut, dun), &st);
+        let s = law.strength(r.traction.y);
+        prop_assert!(r.traction.x.abs() <= s * (1.0 + 1e-12) + 1e-9);
+        if r.status != ContactStatus::Open {
+            prop_assert!((r.traction.x - law.k_s() * (dut - r.state.slip)).abs() <= 1e-9 * s.max(1.0));
+            let dg = r.state.slip - slip;
+            prop_assert!(dg * r.traction.x >= 0.0);
+            prop_assert!((r.state.accumulated_slip - 1.0e-3 - dg.abs()).abs() <= 1e-15);
+        } else {
+            prop_assert_eq!(r.traction, Vector2::zeros());
+        }
+    }
+
     /// Mohr–Coulomb with a bilateral normal spring (tension allowed): the
     /// strength decreases in tension down to the apex.
     #[test]

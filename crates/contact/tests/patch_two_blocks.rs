@@ -7,18 +7,18 @@
 //! does not. DESIGN.md §2 asks for nodal integration by default.
 //!
 //! Goal: (1) a genuine patch test — a uniform stress state passes through
-//! the joint exactly with either rule; (2) under a non-uniform load and a
-//! stiff joint, the Gauss-integrated traction profile oscillates from point
+//! the joint exactly with either rule; (2) with a traction gradient (a
+//! notched joint) and a stiff joint, the Gauss-integrated traction profile oscillates from point
 //! to point while the nodal one is smooth.
 //!
 //! Sketch (plane strain, unit thickness, E = 200 GPa, ν = 0.3):
 //!
 //! ```text
-//!            load on the top edge (uniform, or a strip 0 ≤ x ≤ W/4)
+//!            load on the top edge (uniform pressure, or a uniform pull)
 //!        ┌──────────────────────────────┐  y = H
 //!   u=0  │  top block    (CST, own nodes)│
-//!        ├══════════════════════════════┤  y = 0: NX interface elements
-//!   u=0  │  bottom block (CST, own nodes)│        (k_n = k_s = stiff)
+//!        ├┄┄┄┄┄┄┄┬══════════════════════┤  y = 0: NX interface elements, k_n = k_s = k
+//!   u=0  │  bottom block (CST, own nodes)│  notched case: none on 0 ≤ x < W/4 (┄ crack)
 //!        └──────────────────────────────┘  y = −H, v = 0
 //!        x = 0                         x = W
 //! ```
@@ -30,11 +30,17 @@
 //! Checked:
 //! * uniform pressure p: every interface point has traction exactly
 //!   [0, −p] (to 1e-9 relative) with both rules;
-//! * strip load, stiff joint (k = 1e4·E/h): the oscillation index (largest
-//!   deviation of a point traction from the mean of its two neighbours
-//!   along the interface, over the peak pressure) is small for the nodal
-//!   rule, and at least 10× larger for Gauss, whose profile also has many
-//!   more local extrema; the Gauss oscillation grows with the stiffness.
+//! * notched joint (the first quarter of the interface has no interface
+//!   elements: an open crack), uniform pull p0 on the top edge, joint
+//!   stiffness k = β·E/h for β = 0.1 … 1e4. The traction is singular at the
+//!   crack tip and decays monotonically away from it. Oscillation measure:
+//!   half the total variation of the point tractions in excess of a monotone
+//!   profile's, over p0 (zero for a monotone profile), and the number of
+//!   interior local extrema. For β ≥ 100: nodal — zero extrema, measure
+//!   < 1e-6; Gauss — at least 3 extrema and measure > 0.5 (a Gauss point
+//!   next to the tip even turns compressive in a pure pull). For β = 0.1
+//!   neither rule oscillates: the stiffness triggers it. The resultant of
+//!   the tractions equals p0·W in every case (equilibrium, 1e-9).
 //!
 //! Why: with the nodal rule each integration point sees one facing node
 //! pair, so a point's traction is the interface nodal force divided by its
@@ -43,7 +49,9 @@
 //! (`L/6·[2 1; 1 2]`); in the stiff limit the tractions are obtained by
 //! inverting that matrix on the bulk's nodal forces, which amplifies their
 //! point-to-point (zig-zag) component by up to 3× per element and with
-//! alternating sign.
+//! alternating sign. Measured here (printed by the test): Gauss oscillation
+//! measure 1.27 already at β = 10 (the default penalty factor), 2.00 at
+//! β = 100, 2.11 at β = 1e4; nodal 0 throughout.
 
 use tecon_contact::nalgebra::{DMatrix, DVector, Matrix3, Point2, SMatrix};
 use tecon_contact::{InterfaceElement, InterfaceQuadrature, LinearJoint, Vector8};
