@@ -153,3 +153,80 @@ impl Element<4> for InterfaceElements {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! Reference: DESIGN.md §2 "Heat conduction" (element formulas).
+    //! Goal: the kernels equal the closed forms, conserve heat (row sums)
+    //! and the interface kernel is the shared geometry's Gram matrix × h_c.
+    use super::*;
+    use approx::assert_relative_eq;
+    use nalgebra::Point2;
+
+    #[test]
+    fn conduction_rows_sum_to_zero_and_match_the_formula() {
+        let nodes = [[1000.0, 2000.0], [1000.3, 2000.1], [1000.05, 2000.4]];
+        let g = triangle_geometry(&nodes, [0, 1, 2]);
+        let k = laplace_matrix(&g, 63.9);
+        for i in 0..3 {
+            let s: f64 = (0..3).map(|j| k[(i, j)]).sum();
+            assert!(s.abs() < 1e-12 * k[(i, i)].abs(), "row {i} sums to {s}");
+        }
+        // k A (b bᵀ + c cᵀ)/(4A²) with b, c from the coordinates.
+        let p = nodes;
+        let b = [p[1][1] - p[2][1], p[2][1] - p[0][1], p[0][1] - p[1][1]];
+        let c = [p[2][0] - p[1][0], p[0][0] - p[2][0], p[1][0] - p[0][0]];
+        let area = 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
+        for i in 0..3 {
+            for j in 0..3 {
+                let e = 63.9 * (b[i] * b[j] + c[i] * c[j]) / (4.0 * area);
+                assert_relative_eq!(k[(i, j)], e, max_relative = 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn capacity_totals_are_rho_c_area_for_both_kinds() {
+        let nodes = [[0.0, 0.0], [2.0, 0.0], [0.5, 1.5]];
+        let tris = [[0usize, 1, 2]];
+        for kind in [CapacityKind::Consistent, CapacityKind::Lumped] {
+            let set = CapacityElements { nodes: &nodes, triangles: &tris, rho_c: &[7.0], kind };
+            let m = set.local(0).matrix;
+            assert_relative_eq!(m.sum(), 7.0 * 1.5, epsilon = 1e-12);
+        }
+    }
+
+    #[test]
+    fn convection_edge_matches_closed_form() {
+        let ls = convection_edge(10.25, 21.0, 0.3);
+        let s = 10.25 * 0.3 / 6.0;
+        assert_relative_eq!(ls.matrix, Matrix2::new(2.0 * s, s, s, 2.0 * s), epsilon = 1e-15);
+        assert_relative_eq!(ls.vector, Vector2::new(1.0, 1.0) * (10.25 * 21.0 * 0.15), epsilon = 1e-12);
+        // K·[T∞, T∞] = f: no heat flows at ambient temperature.
+        assert_relative_eq!(ls.matrix * Vector2::new(21.0, 21.0), ls.vector, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn interface_kernel_is_h_c_times_the_jump_gram() {
+        let g = InterfaceGeometry::new(&[
+            Point2::new(0.0, 0.0),
+            Point2::new(0.6, 0.8),
+            Point2::new(0.6, 0.8),
+            Point2::new(0.0, 0.0),
+        ])
+        .unwrap();
+        for rule in [InterfaceQuadrature::Nodal, InterfaceQuadrature::Gauss2] {
+            let k = interface_conductance(&g, rule, [850.0, 850.0]);
+            assert_relative_eq!(k, g.jump_gram(rule) * 850.0, epsilon = 1e-10);
+            // Rows sum to zero: no heat is created across the interface.
+            for i in 0..4 {
+                assert!(k.row(i).sum().abs() < 1e-10);
+            }
+        }
+        // Nodal: h_c L/2 per facing pair, point 1 sees pair (1, 4) only.
+        let k = interface_conductance(&g, InterfaceQuadrature::Nodal, [2.0, 0.0]);
+        assert_relative_eq!(k[(0, 0)], 2.0 * 0.5, epsilon = 1e-14);
+        assert_relative_eq!(k[(0, 3)], -2.0 * 0.5, epsilon = 1e-14);
+        assert_eq!(k[(1, 1)], 0.0);
+    }
+}

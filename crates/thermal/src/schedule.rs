@@ -219,3 +219,35 @@ impl ThetaScheme {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! Goal: schedules end exactly where asked, with one Δt per block.
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn segments_land_on_their_ends_with_one_step_size_each() {
+        let s = TimeSchedule::segments(&[(1.0, 0.3), (60.0, 10.0), (3600.0, 600.0)]).unwrap();
+        assert_relative_eq!(s.end(), 3600.0, epsilon = 1e-9);
+        assert_eq!(s.distinct_steps(), 3);
+        assert!(s.steps()[..4].iter().all(|&d| (d - 0.25).abs() < 1e-15));
+        assert_eq!(s.len(), 4 + 6 + 6);
+    }
+
+    #[test]
+    fn geometric_schedule_grows_per_level_and_ends_on_time() {
+        let s = TimeSchedule::geometric(0.1, 2.0, 3, 10.0).unwrap();
+        assert_relative_eq!(s.end(), 10.0, epsilon = 1e-12);
+        assert_eq!(&s.steps()[..6], &[0.1, 0.1, 0.1, 0.2, 0.2, 0.2]);
+        assert!(s.steps().windows(2).take(s.len() - 2).all(|w| w[1] >= w[0]));
+    }
+
+    #[test]
+    fn theta_scheme_uses_backward_euler_for_the_start_up() {
+        let cn = ThetaScheme::crank_nicolson();
+        assert_eq!((cn.theta_at(0), cn.theta_at(1), cn.theta_at(2)), (1.0, 1.0, 0.5));
+        assert_eq!(ThetaScheme::backward_euler().theta_at(0), 1.0);
+        assert!(ThetaScheme::new(1.2, 0).is_err());
+    }
+}

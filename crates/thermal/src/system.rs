@@ -64,8 +64,6 @@ pub struct ThermalSystem<'m> {
     pub(crate) total_capacity: f64,
     /// Prescribed-flux load per node, `(node, Σ_e q_in L/2)`.
     pub(crate) flux_nodes: Vec<(usize, f64)>,
-    /// `Σ_e h T∞ L`.
-    pub(crate) convective_load: f64,
     /// `Σ_e q_in L`.
     pub(crate) flux_load: f64,
     pub(crate) interface_elements: InterfaceElements,
@@ -140,7 +138,6 @@ impl<'m> ThermalSystem<'m> {
             .collect();
         let mut conv_w = vec![0.0; n];
         let mut conv_f = vec![0.0; n];
-        let mut convective_load = 0.0;
         let cv = &input.convection;
         for e in 0..cv.edges.len() {
             let w = 0.5 * cv.h[e] * cv.length[e];
@@ -148,7 +145,6 @@ impl<'m> ThermalSystem<'m> {
                 conv_w[a] += w;
                 conv_f[a] += w * cv.ambient[e];
             }
-            convective_load += cv.h[e] * cv.ambient[e] * cv.length[e];
         }
         let row_sums = conv_w.clone();
         let convective_weights = conv_w
@@ -205,7 +201,6 @@ impl<'m> ThermalSystem<'m> {
             constrained,
             capacity_weights,
             convective_weights,
-            convective_load,
             flux_load,
             flux_nodes,
             row_sums,

@@ -1,0 +1,155 @@
+//! The time-stepping machinery: factorisation reuse, output times,
+//! determinism and the coupling output.
+//!
+//! Reference: issue 3 (factorise once per distinct Δt; outputs at requested
+//! times; per-element reference temperature) and STYLE.md convention 7.
+//! Mesh: unit square, 12 × 12 cells, steel, convection on `right`, a hot
+//! corner node set at the start.
+
+use tecon_mesh::{Mesh, rectangle};
+use tecon_thermal::{
+    BorderRule, CapacityKind, EdgeBc, Material, ThermalModel, ThetaScheme, TimeSchedule,
+};
+
+fn square() -> Mesh {
+    rectangle(0.0, 0.0, 0.1, 0.1, 12, 12).unwrap()
+}
+
+fn model(mesh: &Mesh) -> ThermalModel<'_> {
+    let mut m = ThermalModel::new(mesh);
+    m.set_material_everywhere(Material::vessel_steel())
+        .unwrap()
+        .add_edge_bc("right", EdgeBc::convection(500.0, 20.0))
+        .unwrap()
+        .set_initial_default(20.0)
+        .unwrap();
+    for (i, p) in mesh.nodes().iter().enumerate() {
+        if p[0] < 0.03 && p[1] < 0.03 {
+            m.set_initial_node(i, 800.0).unwrap();
+        }
+    }
+    m
+}
+
+#[test]
+fn one_factorisation_per_distinct_step_and_theta() {
+    let mesh = square();
+    let m = model(&mesh);
+    let sch = TimeSchedule::segments(&[(1.0, 0.1), (10.0, 1.0), (100.0, 10.0)]).unwrap();
+    let be = m
+        .solve_transient(&sch, ThetaScheme::backward_euler(), &[], |_| {})
+        .unwrap();
+    assert_eq!(be.factorisations, 3);
+    assert_eq!(be.steps, sch.len());
+    let cn = m
+        .solve_transient(&sch, ThetaScheme::crank_nicolson(), &[], |_| {})
+        .unwrap();
+    assert_eq!(cn.factorisations, 4, "BE start-up + 3 CN step sizes");
+    // Output times inside steps split them (two more step sizes per split).
+    let snaps = m
+        .solve_transient_collect(&sch, ThetaScheme::backward_euler(), &[0.35, 55.0, 100.0])
+        .unwrap();
+    let times: Vec<f64> = snaps.iter().map(|s| s.time).collect();
+    assert!((times[0] - 0.35).abs() < 1e-12 && (times[1] - 55.0).abs() < 1e-9);
+    assert!((times[2] - 100.0).abs() < 1e-9);
+    // Alternating step sizes within the pool size never refactorise.
+    let system = m.assemble().unwrap();
+    let mut st = system.stepper(system.initial_temperature().unwrap().to_vec(), 0.0).unwrap();
+    for k in 0..20 {
+        st.step(if k % 3 == 0 { 0.5 } else { 0.25 }, 1.0).unwrap();
+    }
+    assert_eq!(st.stats().factorisations, 2);
+    assert_eq!(st.stats().analyses, 2);
+    // A pool of one refactorises on every change but never re-analyses.
+    let mut st = system.stepper(system.initial_temperature().unwrap().to_vec(), 0.0).unwrap();
+    st.set_pool_size(1);
+    for k in 0..6 {
+        st.step(if k % 2 == 0 { 0.5 } else { 0.25 }, 1.0).unwrap();
+    }
+    assert_eq!(st.stats().factorisations, 6);
+    assert_eq!(st.stats().analyses, 1);
+}
+
+#[test]
+fn results_are_bitwise_identical_for_any_thread_count() {
+    let mesh = rectangle(0.0, 0.0, 0.1, 0.1, 80, 80).unwrap(); // > one assembly batch
+    let m = model(&mesh);
+    let sch = TimeSchedule::uniform(0.5, 10).unwrap();
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                m.solve_transient_collect(&sch, ThetaScheme::crank_nicolson(), &[5.0])
+                    .unwrap()
+            })
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(a[0].temperature, b[0].temperature);
+    assert_eq!(a[0].flux, b[0].flux);
+    assert_eq!(a[0].balance, b[0].balance);
+}
+
+#[test]
+fn coupling_output_reference_and_element_temperatures() {
+    // Two regions by hand: left half "hot" (500), right half "cold" (20).
+    let base = square();
+    let regions: Vec<usize> = base
+        .triangles()
+        .iter()
+        .map(|t| {
+            let x = t.iter().map(|&i| base.nodes()[i][0]).sum::<f64>() / 3.0;
+            usize::from(x > 0.05)
+        })
+        .collect();
+    let mesh = Mesh::new(
+        base.nodes().to_vec(),
+        base.triangles().to_vec(),
+        regions,
+        vec!["hot".into(), "cold".into()],
+    )
+    .unwrap();
+    for (rule, border) in [
+        (BorderRule::CapacityWeighted, 260.0),
+        (BorderRule::Maximum, 500.0),
+        (BorderRule::Minimum, 20.0),
+    ] {
+        let mut m = ThermalModel::new(&mesh);
+        m.set_material_everywhere(Material::vessel_steel())
+            .unwrap()
+            .set_capacity(CapacityKind::Lumped)
+            .set_initial_region("hot", 500.0)
+            .unwrap()
+            .set_initial_region("cold", 20.0)
+            .unwrap()
+            .set_border_rule(rule);
+        let system = m.assemble().unwrap();
+        let t0 = system.initial_temperature().unwrap();
+        for (i, p) in mesh.nodes().iter().enumerate() {
+            let expect = if (p[0] - 0.05).abs() < 1e-12 {
+                border
+            } else if p[0] < 0.05 {
+                500.0
+            } else {
+                20.0
+            };
+            assert!((t0[i] - expect).abs() < 1e-9, "{rule:?}: node {i} at x = {}: {}", p[0], t0[i]);
+        }
+        // T_ref = element mean of the initial field: a snapshot at t = 0 has
+        // element temperatures equal to T_ref (zero thermal strain).
+        let t_ref = system.reference_temperature().unwrap();
+        let sch = TimeSchedule::uniform(1.0, 2).unwrap();
+        let snaps = m
+            .solve_transient_collect(&sch, ThetaScheme::backward_euler(), &[0.0, 2.0])
+            .unwrap();
+        assert_eq!(snaps[0].element_temperature, t_ref);
+        assert_eq!(snaps[0].step, 0);
+        assert_eq!(snaps[1].step, 2);
+        // Adiabatic body: heat only moves, the content is kept.
+        assert!(snaps[1].balance.stored_change.abs() < 1e-9 * snaps[1].balance.scale);
+        assert!(snaps[1].balance.relative_residual() < 1e-10);
+        let reg = system.region_initial_temperature().unwrap();
+        assert!(reg.iter().all(|&t| t == 500.0 || t == 20.0));
+    }
+}
