@@ -5,6 +5,7 @@
 //! tecon torsion --section ellipse:a=2,b=1
 //! ```
 
+mod plot;
 mod torsion;
 
 use clap::{Parser, Subcommand};

@@ -1,10 +1,330 @@
-//! `tecon torsion`: filled by the torsion issue.
+//! `tecon torsion`: Saint-Venant torsion of a prismatic bar by the wavelet
+//! boundary integral method (crate `tecon-wavelet-bem`).
+//!
+//! ```text
+//! tecon torsion --section ellipse:a=2,b=1
+//! tecon torsion --section rectangle:w=1,h=2 --n 512 --method nystrom --format json
+//! tecon torsion --section limacon:a=1,c=0.5 --grading 4 --out out/cardioid
+//! tecon torsion --section my_section.toml --study
+//! ```
+
+use crate::plot::{ColouredPath, LinePlot, Series};
+use serde_json::json;
+use std::io::Write;
+use std::path::PathBuf;
+use tecon_wavelet_bem::daubechies::Daubechies;
+use tecon_wavelet_bem::{LinearSolver, Method, Options, sections, solve};
+
+/// Discretisation method (CLI spelling).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodArg {
+    /// periodised Daubechies wavelet Galerkin (default)
+    Daubechies,
+    /// harmonic (Shannon) wavelet Galerkin, spectral
+    Shannon,
+    /// Kress Nyström, reference
+    Nystrom,
+}
+
+/// Output format.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FormatArg {
+    /// human-readable
+    Text,
+    /// one JSON object
+    Json,
+}
 
 /// Arguments of `tecon torsion`.
 #[derive(clap::Args, Debug)]
-pub struct TorsionArgs {}
+pub struct TorsionArgs {
+    /// Section: circle:r=R | ellipse:a=A,b=B | rectangle:w=W,h=H | triangle:a=A |
+    /// polygon:x1,y1;x2,y2;... | regular:n=N,r=R | groove:a=A,b=B | limacon:a=A,c=C | path to a TOML file
+    #[arg(long)]
+    pub section: String,
+    /// Number of unknowns (a power of two for daubechies; default 256, 512 with corners)
+    #[arg(long)]
+    pub n: Option<usize>,
+    /// Discretisation method
+    #[arg(long, value_enum, default_value_t = MethodArg::Daubechies)]
+    pub method: MethodArg,
+    /// Daubechies wavelet dbN
+    #[arg(long, default_value = "db4")]
+    pub wavelet: String,
+    /// Kress grading exponent at corners (default 6; 4 at a cusp)
+    #[arg(long)]
+    pub grading: Option<f64>,
+    /// Output format
+    #[arg(long, value_enum, default_value_t = FormatArg::Text)]
+    pub format: FormatArg,
+    /// Directory for boundary.csv and the plots (|q| vs arc length, section coloured by |q|)
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Convergence study: solve at n/8, n/4, n/2, n and report the observed order
+    #[arg(long)]
+    pub study: bool,
+    /// Compress the wavelet-basis matrix at threshold EPS and solve by CG (daubechies only)
+    #[arg(long, value_name = "EPS")]
+    pub compress: Option<f64>,
+    /// Interior points "x1,y1;x2,y2;..." where u and the stresses are reported
+    #[arg(long)]
+    pub points: Option<String>,
+}
+
+type BoxErr = Box<dyn std::error::Error + Send + Sync>;
+
+fn parse_points(s: &str) -> Result<Vec<[f64; 2]>, BoxErr> {
+    let mut out = Vec::new();
+    for (i, p) in s.split(';').filter(|p| !p.trim().is_empty()).enumerate() {
+        let (x, y) = p
+            .split_once(',')
+            .ok_or_else(|| format!("--points: point {} `{p}` is not x,y", i + 1))?;
+        let x: f64 = x
+            .trim()
+            .parse()
+            .map_err(|_| format!("--points: point {}: bad x `{x}`", i + 1))?;
+        let y: f64 = y
+            .trim()
+            .parse()
+            .map_err(|_| format!("--points: point {}: bad y `{y}`", i + 1))?;
+        out.push([x, y]);
+    }
+    Ok(out)
+}
+
+fn js(v: f64) -> serde_json::Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        serde_json::Value::Null
+    }
+}
 
 /// Runs `tecon torsion`.
-pub fn run(_args: TorsionArgs) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
-    Err("tecon torsion is not implemented yet".into())
+pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
+    let section = sections::parse_spec(&args.section)?;
+    let method = match args.method {
+        MethodArg::Daubechies => Method::Daubechies,
+        MethodArg::Shannon => Method::Shannon,
+        MethodArg::Nystrom => Method::Nystrom,
+    };
+    let wavelet = Daubechies::from_name(&args.wavelet).ok_or_else(|| {
+        format!(
+            "--wavelet: unknown wavelet `{}` (expected db1 … db20)",
+            args.wavelet
+        )
+    })?;
+    let has_corner = section.pieces.len() > 1 || !section.junctions.iter().all(|j| j.is_smooth());
+    let cusp = section
+        .junctions
+        .iter()
+        .any(|j| j.interior_angle > 1.9 * std::f64::consts::PI || j.interior_angle < 0.1);
+    let grading = args.grading.unwrap_or(if cusp { 4.0 } else { 6.0 });
+    let mut n = args.n.unwrap_or(if has_corner { 512 } else { 256 });
+    if method == Method::Daubechies && args.n.is_none() {
+        n = n.max(wavelet.min_n());
+    }
+    let linear = match args.compress {
+        None => LinearSolver::DenseLu,
+        Some(eps) if eps > 0.0 && eps < 1.0 && method == Method::Daubechies => {
+            LinearSolver::Compressed { eps, tol: 1e-13 }
+        }
+        Some(eps) => {
+            return Err(
+                format!("--compress: need 0 < EPS < 1 and --method daubechies, got {eps}").into(),
+            );
+        }
+    };
+    let opts = Options {
+        n,
+        method,
+        wavelet_order: wavelet.order,
+        grading,
+        linear,
+    };
+    let sol = solve(&section, &opts)?;
+    let ms = sol.max_shear();
+    let points = match &args.points {
+        Some(p) => parse_points(p)?,
+        None => vec![],
+    };
+    let interior = sol.interior(&points);
+
+    // convergence study
+    let mut study = Vec::new();
+    if args.study {
+        let mut ns: Vec<usize> = (0..4).rev().map(|k| n >> k).filter(|&m| m >= 8).collect();
+        if method == Method::Daubechies {
+            ns.retain(|&m| m >= wavelet.min_n());
+        }
+        let mut js_: Vec<(usize, f64)> = Vec::new();
+        for &m in &ns {
+            let s = solve(&section, &Options { n: m, ..opts })?;
+            js_.push((m, s.torsional_rigidity));
+        }
+        for k in 0..js_.len() {
+            let order = if k >= 2 {
+                let d1 = (js_[k - 1].1 - js_[k - 2].1).abs();
+                let d2 = (js_[k].1 - js_[k - 1].1).abs();
+                if d1 > 0.0 && d2 > 0.0 {
+                    Some((d1 / d2).log2())
+                } else {
+                    None
+                }
+            } else {
+                None
+            };
+            let diff = if k >= 1 {
+                Some(js_[k].1 - js_[k - 1].1)
+            } else {
+                None
+            };
+            study.push((js_[k].0, js_[k].1, diff, order));
+        }
+    }
+
+    // files
+    let mut written = Vec::new();
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("--out: cannot create `{}`: {e}", dir.display()))?;
+        let samples = sol.boundary_samples((4 * n).max(1024));
+        let csv = dir.join("boundary.csv");
+        let mut f = std::fs::File::create(&csv)
+            .map_err(|e| format!("--out: cannot write `{}`: {e}", csv.display()))?;
+        writeln!(f, "t,s,x,y,q,tau")?;
+        for s in &samples {
+            writeln!(
+                f,
+                "{:.16e},{:.16e},{:.16e},{:.16e},{:.16e},{:.16e}",
+                s.t,
+                s.s,
+                s.x[0],
+                s.x[1],
+                s.q,
+                s.q.abs()
+            )?;
+        }
+        written.push(csv);
+        let lp = LinePlot {
+            title: format!("Boundary shear stress, {}", section.name),
+            x_label: "arc length s [length]".into(),
+            y_label: "τ/(Gθ) = |∂u/∂n| [length]".into(),
+            series: vec![Series {
+                label: format!("{} n={}", method, n),
+                points: samples.iter().map(|s| (s.s, s.q.abs())).collect(),
+            }],
+        };
+        let (a, b) = lp.write_svg_png(&dir.join("boundary_shear"))?;
+        written.push(a);
+        written.push(b);
+        let cp = ColouredPath {
+            title: format!("{}: |q| on the boundary", section.name),
+            value_label: "τ/(Gθ) [length]".into(),
+            points: samples
+                .iter()
+                .map(|s| (s.x[0], s.x[1], s.q.abs()))
+                .collect(),
+            closed: true,
+        };
+        let (a, b) = cp.write_svg_png(&dir.join("section_shear"))?;
+        written.push(a);
+        written.push(b);
+    }
+
+    let method_name = method.to_string();
+    match args.format {
+        FormatArg::Json => {
+            let v = json!({
+                "section": section.name,
+                "notes": section.notes,
+                "torsional_rigidity": sol.torsional_rigidity,
+                "max_shear_stress": ms.value,
+                "max_shear_stress_at": ms.at,
+                "singular": ms.singular,
+                "max_regular_shear_stress": ms.regular_max,
+                "max_regular_shear_stress_at": ms.regular_at,
+                "n": n,
+                "method": method_name,
+                "wavelet": if method == Method::Daubechies { Some(format!("db{}", wavelet.order)) } else { None },
+                "grading": grading,
+                "multiplier": js(sol.multiplier),
+                "area": section.area,
+                "centroid": section.centroid,
+                "polar_moment": section.polar_moment(),
+                "compression": sol.compression,
+                "interior": interior,
+                "study": study.iter().map(|(m, j, d, o)| json!({"n": m, "torsional_rigidity": j, "difference": d, "observed_order": o})).collect::<Vec<_>>(),
+                "files": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+            });
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        }
+        FormatArg::Text => {
+            println!("section            {}", section.name);
+            for note in &section.notes {
+                println!("note               {note}");
+            }
+            println!(
+                "method             {method_name}{}  n = {n}  grading p = {grading}",
+                if method == Method::Daubechies {
+                    format!(" (db{})", wavelet.order)
+                } else {
+                    String::new()
+                }
+            );
+            println!("area               {:.15e}", section.area);
+            println!(
+                "torsional rigidity J = {:.15e}   (T = G θ J)",
+                sol.torsional_rigidity
+            );
+            match (ms.value, ms.at) {
+                (Some(t), Some(at)) => println!(
+                    "max shear stress   τ_max/(Gθ) = {t:.15e} at ({:.10}, {:.10})",
+                    at[0], at[1]
+                ),
+                (_, at) => {
+                    let at = at.unwrap_or([f64::NAN, f64::NAN]);
+                    println!(
+                        "max shear stress   singular (τ → ∞) at the re-entrant corner/cusp ({:.10}, {:.10})",
+                        at[0], at[1]
+                    );
+                    println!(
+                        "                   largest regular value {:.6e} at ({:.6}, {:.6})",
+                        ms.regular_max, ms.regular_at[0], ms.regular_at[1]
+                    );
+                }
+            }
+            println!(
+                "multiplier c       {:.3e}   (exactly 0; an error indicator)",
+                sol.multiplier
+            );
+            if let Some(c) = &sol.compression {
+                println!(
+                    "compression        ε = {:.1e}: {:.1} entries/row, operator error {:.2e}, CG {} iterations (residual {:.1e})",
+                    c.eps, c.entries_per_row, c.operator_error, c.iterations, c.residual
+                );
+            }
+            for v in &interior {
+                println!(
+                    "point ({:.6}, {:.6}): u = {:.12e}  τ_xz = {:.12e}  τ_yz = {:.12e}",
+                    v.x[0], v.x[1], v.u, v.tau_xz, v.tau_yz
+                );
+            }
+            if !study.is_empty() {
+                println!("study:      n   J                        J(n) − J(n/2)   observed order");
+                for (m, j, d, o) in &study {
+                    println!(
+                        "       {m:>6}   {j:.15e}   {}   {}",
+                        d.map(|v| format!("{v:>12.3e}"))
+                            .unwrap_or_else(|| format!("{:>12}", "-")),
+                        o.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into())
+                    );
+                }
+            }
+            for p in &written {
+                println!("wrote              {}", p.display());
+            }
+        }
+    }
+    Ok(())
 }

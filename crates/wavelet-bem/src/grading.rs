@@ -1,8 +1,8 @@
 //! Global periodic parametrisation t ∈ [0, 1) of a section with Kress's
 //! sigmoidal grading at corners and cusps.
 //!
-//! Piece k occupies the panel [b_k, b_{k+1}] of t (b_k proportional to arc
-//! length, rounded to multiples of 2⁻²⁰ so that half-shifted nodes (j + ½)/n
+//! Piece k occupies the panel [b_k, b_{k+1}] of t (its share is half its
+//! fraction of the arc length plus half of 1/m for m pieces, rounded to multiples of 2⁻²⁰ so that half-shifted nodes (j + ½)/n
 //! never fall on a corner for n ≤ 2¹⁹). On a graded panel the local
 //! s = (t − b_k)/(b_{k+1} − b_k) is mapped by
 //!
@@ -100,11 +100,13 @@ impl Parametrisation {
         let lens: Vec<f64> = section.pieces.iter().map(|q| q.length()).collect();
         let total: f64 = lens.iter().sum();
         let scale = (1u64 << 20) as f64;
+        // panel shares: half by arc length, half uniform, so that short
+        // pieces (each with two graded corner clusters) keep enough nodes
         let mut breaks = vec![0.0];
         let mut acc = 0.0;
         for (k, l) in lens.iter().enumerate() {
-            acc += l;
-            let b = if k + 1 == m { 1.0 } else { ((acc / total) * scale).round() / scale };
+            acc += 0.5 * (l / total + 1.0 / m as f64);
+            let b = if k + 1 == m { 1.0 } else { (acc * scale).round() / scale };
             let prev = *breaks.last().unwrap_or(&0.0);
             breaks.push(if b > prev { b } else { prev + 1.0 / scale });
         }

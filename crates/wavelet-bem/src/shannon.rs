@@ -49,9 +49,18 @@ fn basis(alpha: usize) -> [(i64, Complex64); 2] {
     }
 }
 
-/// Solves the harmonic-wavelet (spectral) Galerkin system.
-pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) -> Result<RawSolution, SolveError> {
-    let n = opts.n;
+/// The assembled harmonic-wavelet Galerkin system (real Fourier basis, augmented).
+pub struct ShannonSystem {
+    /// row-major augmented matrix of order n
+    pub matrix: Vec<f64>,
+    /// right-hand side
+    pub rhs: Vec<f64>,
+    /// basis projections of |x − x₀|² (for J)
+    pub functional: Vec<f64>,
+}
+
+/// Assembles the augmented harmonic-wavelet Galerkin system with n − 1 basis functions.
+pub fn assemble(section: &Section, param: &Parametrisation, n: usize) -> Result<ShannonSystem, SolveError> {
     if n % 2 != 0 {
         return Err(SolveError::BadN { n, reason: "the Shannon method needs an even n".into() });
     }
@@ -114,8 +123,17 @@ pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) 
     };
     let mut rhs: Vec<f64> = (0..dim).map(|al| proj(&fh, al)).collect();
     rhs.push(0.0);
-    let sol = dense_lu_solve(nn, &m, &rhs)?;
-    let j_integral: f64 = (0..dim).map(|al| sol[al] * proj(&gh, al)).sum();
+    let functional = (0..dim).map(|al| proj(&gh, al)).collect();
+    Ok(ShannonSystem { matrix: m, rhs, functional })
+}
+
+/// Solves the harmonic-wavelet (spectral) Galerkin system.
+pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) -> Result<RawSolution, SolveError> {
+    let n = opts.n;
+    let sys = assemble(section, param, n)?;
+    let dim = n - 1;
+    let sol = dense_lu_solve(n, &sys.matrix, &sys.rhs)?;
+    let j_integral: f64 = (0..dim).map(|al| sol[al] * sys.functional[al]).sum();
     let rmax = n / 2 - 1;
     let mut coef = vec![Complex64::new(0.0, 0.0); 2 * rmax + 1];
     for (al, x) in sol.iter().enumerate().take(dim) {

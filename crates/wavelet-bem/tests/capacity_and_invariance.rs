@@ -1,0 +1,130 @@
+//! The capacity trap and invariance of the torsion solution.
+//!
+//! Reference: WAVELET_BEM.md §2 (logarithmic capacity; the bare first-kind
+//! system V q = f is singular when cap(Γ) = 1: unit circle, ellipse 1.5 × 0.5)
+//! and §5 (translation, rotation: J to 1e-13; scaling by λ: J ↦ λ⁴J, τ ↦ λτ).
+//!
+//! Goal: show that the bare matrices are singular at capacity 1 while the
+//! augmented ones are not, and that the solution transforms correctly across
+//! capacity 1.
+//!
+//! ```text
+//!   cap = 1:  ( V ) singular        ( V  e ) regular       e_i = ∫ φ_i
+//!                                   ( eᵀ 0 )
+//! ```
+//!
+//! Checked: smallest singular values (bare ≈ 0 relative to the largest,
+//! augmented bounded away), J and τ under translation, rotation and scaling
+//! for all three methods.
+
+use tecon_wavelet_bem::daubechies::Daubechies;
+use tecon_wavelet_bem::grading::Parametrisation;
+use tecon_wavelet_bem::linalg::singular_values;
+use tecon_wavelet_bem::*;
+
+fn smallest_ratio(n: usize, a: &[f64]) -> f64 {
+    let sv = singular_values(n, a).unwrap();
+    sv[sv.len() - 1] / sv[0]
+}
+
+#[test]
+fn bare_system_singular_at_capacity_one_augmented_not() {
+    for (name, sec) in [("unit circle", sections::circle(1.0).unwrap()), ("ellipse 1.5x0.5", sections::ellipse(1.5, 0.5).unwrap())] {
+        let param = Parametrisation::new(&sec, 6.0);
+        let n = 64;
+        // Daubechies Galerkin
+        let sys = galerkin::assemble(&sec, &param, n, Daubechies::new(4).unwrap()).unwrap();
+        let bare = smallest_ratio(n, &sys.matrix);
+        let mut aug = vec![0.0; (n + 1) * (n + 1)];
+        for i in 0..n {
+            aug[i * (n + 1)..i * (n + 1) + n].copy_from_slice(&sys.matrix[i * n..(i + 1) * n]);
+            aug[i * (n + 1) + n] = sys.constraint[i];
+            aug[n * (n + 1) + i] = sys.constraint[i];
+        }
+        let augr = smallest_ratio(n + 1, &aug);
+        assert!(bare < 1e-13, "{name}: bare Galerkin σ_min/σ_max = {bare:e}");
+        assert!(augr > 1e-4, "{name}: augmented Galerkin σ_min/σ_max = {augr:e}");
+        // Nyström
+        let nodes = param.nodes(&sec, n);
+        let ny = nystrom::assemble(&nodes, sec.centroid);
+        let bare_ny: Vec<f64> = (0..n).flat_map(|i| ny.matrix[i * (n + 1)..i * (n + 1) + n].to_vec()).collect();
+        let b = smallest_ratio(n, &bare_ny);
+        let g = smallest_ratio(n + 1, &ny.matrix);
+        assert!(b < 1e-13, "{name}: bare Nyström {b:e}");
+        assert!(g > 1e-4, "{name}: augmented Nyström {g:e}");
+    }
+    // away from capacity 1 the bare system is regular (so the test above can fail)
+    let sec = sections::circle(0.5).unwrap();
+    let param = Parametrisation::new(&sec, 6.0);
+    let sys = galerkin::assemble(&sec, &param, 64, Daubechies::new(4).unwrap()).unwrap();
+    assert!(smallest_ratio(64, &sys.matrix) > 1e-4);
+}
+
+fn all_methods(sec: &Section, n: usize) -> Vec<(f64, f64)> {
+    [Method::Daubechies, Method::Shannon, Method::Nystrom]
+        .iter()
+        .map(|&m| {
+            let s = solve(sec, &Options { n, method: m, ..Options::default() }).unwrap();
+            (s.torsional_rigidity, s.max_shear().value.unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn translation_and_rotation_invariance() {
+    let cases = [
+        (sections::ellipse(2.0, 1.0).unwrap(), 256),
+        (sections::triangle(1.0).unwrap(), 256),
+        (sections::groove(1.0, 0.6).unwrap(), 256),
+        (sections::limacon(1.0, 0.3).unwrap(), 256),
+    ];
+    for (sec, n) in cases {
+        let base = all_methods(&sec, n);
+        for moved in [sec.translated([3.7, -1.2]).unwrap(), sec.rotated(0.7316).unwrap(), sec.rotated(2.0).unwrap().translated([-5.0, 2.5]).unwrap()] {
+            let m = all_methods(&moved, n);
+            for (k, ((j0, t0), (j1, t1))) in base.iter().zip(&m).enumerate() {
+                assert!((j1 - j0).abs() < 1e-13 * j0.abs(), "{} method {k}: J {j0} → {j1}", sec.name);
+                assert!((t1 - t0).abs() < 1e-11 * t0, "{} method {k}: τ {t0} → {t1}", sec.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn scaling_across_capacity_one() {
+    // ellipse 3:1, capacity (a + b)/2 = 0.5 λ: λ = 2 crosses capacity 1
+    let base = sections::ellipse(0.75, 0.25).unwrap(); // capacity 0.5
+    let b0 = all_methods(&base, 256);
+    for lambda in [0.5, 2.0, 2.0 + 1e-9, 4.0] {
+        let sec = base.scaled(lambda).unwrap(); // λ = 2: capacity exactly 1
+        let b = all_methods(&sec, 256);
+        for (k, ((j0, t0), (j1, t1))) in b0.iter().zip(&b).enumerate() {
+            assert!((j1 / (j0 * lambda.powi(4)) - 1.0).abs() < 1e-12, "λ={lambda} method {k}: {j1} vs {}", j0 * lambda.powi(4));
+            assert!((t1 / (t0 * lambda) - 1.0).abs() < 1e-12, "λ={lambda} method {k}");
+        }
+    }
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let sec = sections::rectangle(1.0, 2.0).unwrap();
+    let run = |threads: usize, method: Method, linear: LinearSolver| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let s = solve(&sec, &Options { n: 256, method, linear, ..Options::default() }).unwrap();
+            let coef: Vec<(u64, u64)> = s.density.coef.iter().map(|c| (c.re.to_bits(), c.im.to_bits())).collect();
+            (s.torsional_rigidity.to_bits(), s.multiplier.to_bits(), coef)
+        })
+    };
+    for (m, lin) in [
+        (Method::Daubechies, LinearSolver::DenseLu),
+        (Method::Daubechies, LinearSolver::Compressed { eps: 1e-9, tol: 1e-12 }),
+        (Method::Shannon, LinearSolver::DenseLu),
+        (Method::Nystrom, LinearSolver::DenseLu),
+    ] {
+        let a = run(1, m, lin);
+        let b = run(2, m, lin);
+        let c = run(3, m, lin);
+        assert!(a == b && b == c, "{m} {lin:?}: results differ between 1, 2 and 3 threads");
+    }
+}
