@@ -5,13 +5,17 @@
 //! tecon torsion --section ellipse:a=2,b=1
 //! ```
 
-mod plot;
+mod mesh_cmd;
 mod torsion;
 
 use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]
-#[command(name = "tecon", version, about = "Thermoelastic contact of layered vessels, and wavelet-BEM torsion")]
+#[command(
+    name = "tecon",
+    version,
+    about = "Thermoelastic contact of layered vessels, and wavelet-BEM torsion"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -19,6 +23,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Generate the welded-vessel mesh (or read a Gmsh file), validate it and write VTK.
+    Mesh(mesh_cmd::MeshArgs),
     /// Saint-Venant torsion of a prismatic bar by the wavelet boundary integral method.
     Torsion(torsion::TorsionArgs),
 }
@@ -26,6 +32,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Mesh(args) => mesh_cmd::run(args),
         Command::Torsion(args) => torsion::run(args),
     };
     if let Err(e) = result {

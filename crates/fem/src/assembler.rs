@@ -110,14 +110,25 @@ impl AssemblerBuilder {
             .map(|(ndof, dofs)| {
                 let n_elements = dofs.len() / ndof;
                 let mut slots = vec![0u32; n_elements * ndof * ndof];
+                let c = pattern.block_size();
+                let (indptr, indices) = (pattern.indptr(), pattern.indices());
                 slots
                     .par_chunks_mut(ndof * ndof)
                     .zip(dofs.par_chunks(ndof))
                     .for_each(|(s, el)| {
-                        for (a, &r) in el.iter().enumerate() {
-                            for (b, &c) in el.iter().enumerate() {
+                        // Node blocks: one search per node pair, c² slots from it.
+                        for a in (0..ndof).step_by(c) {
+                            let row = el[a];
+                            let (lo, hi) = (indptr[row], indptr[row + 1]);
+                            for b in (0..ndof).step_by(c) {
                                 // Present by construction of the pattern.
-                                s[a * ndof + b] = pattern.slot(r, c).unwrap_or(0) as u32;
+                                let k = indices[lo..hi].binary_search(&el[b]).unwrap_or(0);
+                                for ka in 0..c {
+                                    let base = indptr[row + ka] + k;
+                                    for kb in 0..c {
+                                        s[(a + ka) * ndof + b + kb] = (base + kb) as u32;
+                                    }
+                                }
                             }
                         }
                     });
@@ -308,14 +319,14 @@ impl Assembler {
                 expected: self.pattern.nnz(),
             });
         }
-        if let Some(r) = rhs {
-            if r.len() != self.pattern.n() {
-                return Err(FemError::LengthMismatch {
-                    what: "right-hand side".into(),
-                    got: r.len(),
-                    expected: self.pattern.n(),
-                });
-            }
+        if let Some(r) = rhs
+            && r.len() != self.pattern.n()
+        {
+            return Err(FemError::LengthMismatch {
+                what: "right-hand side".into(),
+                got: r.len(),
+                expected: self.pattern.n(),
+            });
         }
         Ok(b)
     }

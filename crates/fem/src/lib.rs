@@ -24,6 +24,7 @@ pub mod error;
 pub mod interface;
 pub mod modes;
 pub mod pattern;
+pub mod reference;
 pub mod solver;
 pub mod triangle;
 

@@ -15,6 +15,9 @@ pub struct SparsityPattern {
     n: usize,
     indptr: Vec<usize>,
     indices: Vec<usize>,
+    /// Node block size c: rows c·m … c·m+c−1 share their columns, which come
+    /// in whole node groups (1 for a scalar pattern).
+    block: usize,
 }
 
 impl SparsityPattern {
@@ -24,7 +27,7 @@ impl SparsityPattern {
     /// Diagonal entries are always present.
     pub fn from_blocks(n: usize, blocks: &[(usize, &[usize])]) -> Result<Self, FemError> {
         for (k, &(ndof, dofs)) in blocks.iter().enumerate() {
-            if ndof == 0 || dofs.len() % ndof != 0 {
+            if ndof == 0 || !dofs.len().is_multiple_of(ndof) {
                 return Err(FemError::LengthMismatch {
                     what: format!("element block {k}"),
                     got: dofs.len(),
@@ -39,72 +42,46 @@ impl SparsityPattern {
                 });
             }
         }
-        // Upper bound of entries per row: 1 (diagonal) + ndof per element touching it.
-        let mut count = vec![1usize; n];
-        for &(ndof, dofs) in blocks {
-            for &d in dofs {
-                count[d] += ndof;
-            }
-        }
-        let mut start = Vec::with_capacity(n + 1);
-        start.push(0usize);
-        for c in &count {
-            start.push(start.last().copied().unwrap_or(0) + c);
-        }
-        let total = start[n];
-        let mut cand = vec![0u32; total];
-        let mut fill = start[..n].to_vec();
-        for (i, f) in fill.iter_mut().enumerate() {
-            cand[*f] = i as u32;
-            *f += 1;
-        }
-        for &(ndof, dofs) in blocks {
-            for el in dofs.chunks_exact(ndof) {
-                for &r in el {
-                    let f = &mut fill[r];
-                    for (k, &c) in el.iter().enumerate() {
-                        cand[*f + k] = c as u32;
+        // Interleaved node blocks (dof = node·c + k, all components of a node
+        // together, as a DofMap numbers them): build the node pattern and
+        // expand it, 1/c² of the sorting work.
+        if let Some(c) = detect_block_size(n, blocks) {
+            let node_dofs: Vec<Vec<usize>> = blocks
+                .iter()
+                .map(|&(_, dofs)| dofs.iter().step_by(c).map(|d| d / c).collect())
+                .collect();
+            let node_blocks: Vec<(usize, &[usize])> = blocks
+                .iter()
+                .zip(&node_dofs)
+                .map(|(&(ndof, _), d)| (ndof / c, d.as_slice()))
+                .collect();
+            let (np, ni) = scalar_pattern(n / c, &node_blocks);
+            let mut indptr = Vec::with_capacity(n + 1);
+            let mut indices = Vec::with_capacity(ni.len() * c * c);
+            indptr.push(0);
+            for a in 0..n / c {
+                let row = &ni[np[a]..np[a + 1]];
+                for _ in 0..c {
+                    for &m in row {
+                        indices.extend((0..c).map(|l| m * c + l));
                     }
-                    *f += ndof;
+                    indptr.push(indices.len());
                 }
             }
+            return Ok(SparsityPattern {
+                n,
+                indptr,
+                indices,
+                block: c,
+            });
         }
-        // Sort and dedup each row in parallel (each row is independent: deterministic).
-        let mut rows: Vec<&mut [u32]> = Vec::with_capacity(n);
-        let mut rest: &mut [u32] = &mut cand;
-        for i in 0..n {
-            let (head, tail) = rest.split_at_mut(start[i + 1] - start[i]);
-            rows.push(head);
-            rest = tail;
-        }
-        let lens: Vec<usize> = rows
-            .par_iter_mut()
-            .map(|row| {
-                row.sort_unstable();
-                let mut w = 0;
-                for r in 0..row.len() {
-                    if r == 0 || row[r] != row[w - 1] {
-                        row[w] = row[r];
-                        w += 1;
-                    }
-                }
-                w
-            })
-            .collect();
-        let mut indptr = Vec::with_capacity(n + 1);
-        indptr.push(0);
-        for l in &lens {
-            indptr.push(indptr.last().copied().unwrap_or(0) + l);
-        }
-        let mut indices = Vec::with_capacity(indptr[n]);
-        for i in 0..n {
-            indices.extend(
-                cand[start[i]..start[i] + lens[i]]
-                    .iter()
-                    .map(|&c| c as usize),
-            );
-        }
-        Ok(SparsityPattern { n, indptr, indices })
+        let (indptr, indices) = scalar_pattern(n, blocks);
+        Ok(SparsityPattern {
+            n,
+            indptr,
+            indices,
+            block: 1,
+        })
     }
 
     /// Number of rows (= columns).
@@ -127,12 +104,101 @@ impl SparsityPattern {
         &self.indices
     }
 
+    /// Node block size (see [`SparsityPattern::from_blocks`]).
+    pub fn block_size(&self) -> usize {
+        self.block
+    }
+
     /// Slot of entry (i, j) in the value array, if stored.
     #[inline]
     pub fn slot(&self, i: usize, j: usize) -> Option<usize> {
         let (a, b) = (self.indptr[i], self.indptr[i + 1]);
         self.indices[a..b].binary_search(&j).ok().map(|k| a + k)
     }
+}
+
+/// Sorted, deduplicated CSR pattern (with diagonal) of the union of element cliques.
+fn scalar_pattern(n: usize, blocks: &[(usize, &[usize])]) -> (Vec<usize>, Vec<usize>) {
+    // Upper bound of entries per row: 1 (diagonal) + ndof per element touching it.
+    let mut count = vec![1usize; n];
+    for &(ndof, dofs) in blocks {
+        for &d in dofs {
+            count[d] += ndof;
+        }
+    }
+    let mut start = Vec::with_capacity(n + 1);
+    start.push(0usize);
+    for c in &count {
+        start.push(start.last().copied().unwrap_or(0) + c);
+    }
+    let total = start[n];
+    let mut cand = vec![0u32; total];
+    let mut fill = start[..n].to_vec();
+    for (i, f) in fill.iter_mut().enumerate() {
+        cand[*f] = i as u32;
+        *f += 1;
+    }
+    for &(ndof, dofs) in blocks {
+        for el in dofs.chunks_exact(ndof) {
+            for &r in el {
+                let f = &mut fill[r];
+                for (k, &c) in el.iter().enumerate() {
+                    cand[*f + k] = c as u32;
+                }
+                *f += ndof;
+            }
+        }
+    }
+    // Sort and dedup each row in parallel (each row is independent: deterministic).
+    let mut rows: Vec<&mut [u32]> = Vec::with_capacity(n);
+    let mut rest: &mut [u32] = &mut cand;
+    for i in 0..n {
+        let (head, tail) = rest.split_at_mut(start[i + 1] - start[i]);
+        rows.push(head);
+        rest = tail;
+    }
+    let lens: Vec<usize> = rows
+        .par_iter_mut()
+        .map(|row| {
+            row.sort_unstable();
+            let mut w = 0;
+            for r in 0..row.len() {
+                if r == 0 || row[r] != row[w - 1] {
+                    row[w] = row[r];
+                    w += 1;
+                }
+            }
+            w
+        })
+        .collect();
+    let mut indptr = Vec::with_capacity(n + 1);
+    indptr.push(0);
+    for l in &lens {
+        indptr.push(indptr.last().copied().unwrap_or(0) + l);
+    }
+    let mut indices = Vec::with_capacity(indptr[n]);
+    for i in 0..n {
+        indices.extend(
+            cand[start[i]..start[i] + lens[i]]
+                .iter()
+                .map(|&c| c as usize),
+        );
+    }
+    (indptr, indices)
+}
+
+/// The common node block size c ≥ 2 of all element blocks, if every element
+/// lists whole nodes (dofs c·m, c·m+1, …, c·m+c−1 in order).
+fn detect_block_size(n: usize, blocks: &[(usize, &[usize])]) -> Option<usize> {
+    (2..=3).find(|&c| {
+        n.is_multiple_of(c)
+            && blocks.iter().all(|&(ndof, dofs)| {
+                ndof.is_multiple_of(c)
+                    && dofs
+                        .chunks_exact(c)
+                        .all(|g| g[0].is_multiple_of(c) && g.iter().enumerate().all(|(k, &d)| d == g[0] + k))
+            })
+    })
 }
 
 /// A CSR matrix over a shared pattern.

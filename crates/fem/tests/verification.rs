@@ -13,55 +13,28 @@
 //! ```
 
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector};
-use tecon_fem::triangle::{TriangleGeometry, elasticity_stiffness, laplace_matrix, plane_strain_d};
+use tecon_fem::reference::{ElasticSet, LaplaceSet};
+use tecon_fem::triangle::plane_strain_d;
 use tecon_fem::{
     AssemblerBuilder, CholeskySolver, Dirichlet, DofMap, Element, FemError, LocalSystem, LuSolver,
     Parallelism, check_rigid_modes, plane_rigid_modes, scalar_mode,
 };
 use tecon_mesh::{Mesh, rectangle};
 
-struct Laplace<'a> {
-    mesh: &'a Mesh,
-    k: f64,
-    source: f64,
-}
-
-impl Element<3> for Laplace<'_> {
-    fn n_elements(&self) -> usize {
-        self.mesh.n_triangles()
-    }
-    fn dofs(&self, e: usize) -> [usize; 3] {
-        self.mesh.triangles()[e]
-    }
-    fn local(&self, e: usize) -> LocalSystem<3> {
-        let t = self.mesh.triangles()[e];
-        let g = TriangleGeometry::new(t.map(|v| self.mesh.nodes()[v]));
-        LocalSystem {
-            matrix: laplace_matrix(&g, self.k),
-            vector: SVector::<f64, 3>::repeat(self.source * g.area / 3.0),
-        }
+fn laplace(mesh: &Mesh, k: f64, source: f64) -> LaplaceSet<'_> {
+    LaplaceSet {
+        nodes: mesh.nodes(),
+        triangles: mesh.triangles(),
+        k,
+        source,
     }
 }
 
-struct Elastic<'a> {
-    mesh: &'a Mesh,
-    d: Matrix3<f64>,
-}
-
-impl Element<6> for Elastic<'_> {
-    fn n_elements(&self) -> usize {
-        self.mesh.n_triangles()
-    }
-    fn dofs(&self, e: usize) -> [usize; 6] {
-        DofMap::new(self.mesh.n_nodes(), 2).element_dofs(self.mesh.triangles()[e])
-    }
-    fn local(&self, e: usize) -> LocalSystem<6> {
-        let t = self.mesh.triangles()[e];
-        let g = TriangleGeometry::new(t.map(|v| self.mesh.nodes()[v]));
-        LocalSystem {
-            matrix: elasticity_stiffness(&g, &self.d),
-            vector: SVector::zeros(),
-        }
+fn elastic(mesh: &Mesh, d: Matrix3<f64>) -> ElasticSet<'_> {
+    ElasticSet {
+        nodes: mesh.nodes(),
+        triangles: mesh.triangles(),
+        d,
     }
 }
 
@@ -108,11 +81,7 @@ fn dense_reference<const N: usize, E: Element<N>>(
 #[test]
 fn assembly_matches_dense_reference() {
     let mesh = rectangle(0.0, 0.0, 2.0, 1.0, 7, 5).unwrap();
-    let lap = Laplace {
-        mesh: &mesh,
-        k: 2.5,
-        source: 3.0,
-    };
+    let lap = laplace(&mesh, 2.5, 3.0);
     let mut b = AssemblerBuilder::new(mesh.n_nodes());
     let id = b.add_elements(&lap);
     let asm = b.build().unwrap();
@@ -138,10 +107,7 @@ fn assembly_matches_dense_reference() {
         .collect();
     assert_eq!(stored, structural);
 
-    let el = Elastic {
-        mesh: &mesh,
-        d: plane_strain_d(200e9, 0.3),
-    };
+    let el = elastic(&mesh, plane_strain_d(200e9, 0.3));
     let mut b = AssemblerBuilder::new(2 * mesh.n_nodes());
     let id = b.add_elements(&el);
     let asm = b.build().unwrap();
@@ -157,15 +123,8 @@ fn assembly_is_bitwise_identical_for_any_thread_count() {
     // large enough for several parallel batches
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 80, 70).unwrap();
     assert!(mesh.n_triangles() > 2 * tecon_fem::assembler::BATCH);
-    let el = Elastic {
-        mesh: &mesh,
-        d: plane_strain_d(1.0, 0.3),
-    };
-    let lap = Laplace {
-        mesh: &mesh,
-        k: 1.0,
-        source: 1.0,
-    };
+    let el = elastic(&mesh, plane_strain_d(1.0, 0.3));
+    let lap = laplace(&mesh, 1.0, 1.0);
     let run = |threads: usize, par: Parallelism| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -229,11 +188,7 @@ fn patch_test_reproduces_a_linear_field() {
     )
     .unwrap();
     let exact = |p: [f64; 2]| 1.0 + 2.0 * p[0] - 3.0 * p[1];
-    let lap = Laplace {
-        mesh: &mesh,
-        k: 1.0,
-        source: 0.0,
-    };
+    let lap = laplace(&mesh, 1.0, 0.0);
     let mut b = AssemblerBuilder::new(mesh.n_nodes());
     let id = b.add_elements(&lap);
     let asm = b.build().unwrap();
@@ -264,11 +219,7 @@ fn patch_test_reproduces_a_linear_field() {
 #[test]
 fn nonhomogeneous_dirichlet_matches_a_reduced_dense_solve() {
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 4, 3).unwrap();
-    let lap = Laplace {
-        mesh: &mesh,
-        k: 1.7,
-        source: 2.0,
-    };
+    let lap = laplace(&mesh, 1.7, 2.0);
     let n = mesh.n_nodes();
     let mut b = AssemblerBuilder::new(n);
     let id = b.add_elements(&lap);
@@ -313,11 +264,7 @@ fn nonhomogeneous_dirichlet_matches_a_reduced_dense_solve() {
 #[test]
 fn lu_solves_a_nonsymmetric_system_and_cholesky_refactorises() {
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 5, 5).unwrap();
-    let lap = Laplace {
-        mesh: &mesh,
-        k: 1.0,
-        source: 1.0,
-    };
+    let lap = laplace(&mesh, 1.0, 1.0);
     let n = mesh.n_nodes();
     let mut b = AssemblerBuilder::new(n);
     let id = b.add_elements(&lap);
@@ -392,10 +339,7 @@ fn two_blocks() -> Mesh {
 fn free_body_is_named() {
     let mesh = two_blocks();
     let dm = DofMap::new(mesh.n_nodes(), 2);
-    let el = Elastic {
-        mesh: &mesh,
-        d: plane_strain_d(1.0, 0.25),
-    };
+    let el = elastic(&mesh, plane_strain_d(1.0, 0.25));
     let mut b = AssemblerBuilder::new(dm.n_dofs());
     let id = b.add_elements(&el);
     let asm = b.build().unwrap();
@@ -462,11 +406,7 @@ fn free_body_is_named() {
 fn bodies_free_together_are_named_together() {
     // two scalar bodies joined by springs, nothing anchored: the common constant is free
     let mesh = two_blocks();
-    let lap = Laplace {
-        mesh: &mesh,
-        k: 1.0,
-        source: 0.0,
-    };
+    let lap = laplace(&mesh, 1.0, 0.0);
     let pairs: Vec<[usize; 2]> = (0..mesh.n_nodes())
         .filter(|&i| mesh.nodes()[i][0] == 1.0 && mesh.node_bodies()[i] == 0)
         .map(|i| {
@@ -532,11 +472,7 @@ fn error_paths() {
     b.add_block(2, vec![0, 1, 2]);
     assert!(matches!(b.build(), Err(FemError::LengthMismatch { .. })));
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 2, 2).unwrap();
-    let lap = Laplace {
-        mesh: &mesh,
-        k: 1.0,
-        source: 0.0,
-    };
+    let lap = laplace(&mesh, 1.0, 0.0);
     let mut b = AssemblerBuilder::new(mesh.n_nodes());
     let id = b.add_elements(&lap);
     let asm = b.build().unwrap();
@@ -578,10 +514,7 @@ fn factorisation_and_solve_are_bitwise_identical_for_any_thread_count() {
     // big enough for faer to choose the supernodal (parallel) path
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 90, 90).unwrap();
     let dm = DofMap::new(mesh.n_nodes(), 2);
-    let el = Elastic {
-        mesh: &mesh,
-        d: plane_strain_d(1.0, 0.3),
-    };
+    let el = elastic(&mesh, plane_strain_d(1.0, 0.3));
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -294,7 +294,7 @@ impl Mesh {
     /// like their triangle (counter-clockwise), so the body lies on the left
     /// and the right normal points outward.
     pub fn add_edge_set(&mut self, name: &str, edges: Vec<[usize; 2]>) -> Result<(), MeshError> {
-        let map = self.directed_edges();
+        let adj = self.node_triangles();
         let mut out = Vec::with_capacity(edges.len());
         for (k, [a, b]) in edges.into_iter().enumerate() {
             for v in [a, b] {
@@ -307,12 +307,15 @@ impl Mesh {
                     });
                 }
             }
-            match (map.get(&(a, b)), map.get(&(b, a))) {
-                (Some(_), None) => out.push([a, b]),
-                (None, Some(_)) => out.push([b, a]),
+            match (
+                self.has_directed_edge(&adj, a, b),
+                self.has_directed_edge(&adj, b, a),
+            ) {
+                (true, false) => out.push([a, b]),
+                (false, true) => out.push([b, a]),
                 // An interior edge (both directions exist): keep as given.
-                (Some(_), Some(_)) => out.push([a, b]),
-                (None, None) => {
+                (true, true) => out.push([a, b]),
+                (false, false) => {
                     return Err(MeshError::EdgeNotInMesh {
                         set: name.into(),
                         a,
@@ -448,6 +451,36 @@ impl Mesh {
             .collect()
     }
 
+    /// Node → triangles adjacency in CSR form.
+    fn node_triangles(&self) -> (Vec<usize>, Vec<usize>) {
+        let mut start = vec![0usize; self.nodes.len() + 1];
+        for t in &self.triangles {
+            for &v in t {
+                start[v + 1] += 1;
+            }
+        }
+        for i in 0..self.nodes.len() {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0usize; start[self.nodes.len()]];
+        for (e, t) in self.triangles.iter().enumerate() {
+            for &v in t {
+                list[fill[v]] = e;
+                fill[v] += 1;
+            }
+        }
+        (start, list)
+    }
+
+    /// Whether some triangle runs a→b in its counter-clockwise order.
+    fn has_directed_edge(&self, adj: &(Vec<usize>, Vec<usize>), a: usize, b: usize) -> bool {
+        adj.1[adj.0[a]..adj.0[a + 1]].iter().any(|&e| {
+            let t = self.triangles[e];
+            (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b)
+        })
+    }
+
     fn directed_edges(&self) -> HashMap<(usize, usize), usize> {
         let mut map = HashMap::with_capacity(3 * self.triangles.len());
         for (e, t) in self.triangles.iter().enumerate() {
@@ -510,10 +543,10 @@ fn find_bodies(
     // Bodies numbered in order of their smallest node.
     let mut body_of_root = HashMap::new();
     let mut node_body = vec![0; n];
-    for i in 0..n {
+    for (i, nb) in node_body.iter_mut().enumerate() {
         let r = root(&mut parent, i);
         let next = body_of_root.len();
-        node_body[i] = *body_of_root.entry(r).or_insert(next);
+        *nb = *body_of_root.entry(r).or_insert(next);
     }
     let nb = body_of_root.len();
     let mut elements = vec![Vec::new(); nb];
@@ -588,10 +621,10 @@ fn check_duplicates(
     }
     for (e, t) in triangles.iter().enumerate() {
         for v in t {
-            if let Some(r) = regions_of.get_mut(v) {
-                if !r.contains(&element_region[e]) {
-                    r.push(element_region[e]);
-                }
+            if let Some(r) = regions_of.get_mut(v)
+                && !r.contains(&element_region[e])
+            {
+                r.push(element_region[e]);
             }
         }
     }
