@@ -320,11 +320,21 @@ fn unit(v: V2) -> V2 {
 
 fn seg_intersect(p1: V2, p2: V2, q1: V2, q2: V2) -> bool {
     let cross = |o: V2, a: V2, b: V2| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let on_seg = |a: V2, b: V2, p: V2| {
+        p[0] >= a[0].min(b[0]) && p[0] <= a[0].max(b[0]) && p[1] >= a[1].min(b[1]) && p[1] <= a[1].max(b[1])
+    };
     let d1 = cross(q1, q2, p1);
     let d2 = cross(q1, q2, p2);
     let d3 = cross(p1, p2, q1);
     let d4 = cross(p1, p2, q2);
-    ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+        return true;
+    }
+    // touching or collinear overlap (non-adjacent polyline segments must not meet at all)
+    (d1 == 0.0 && on_seg(q1, q2, p1))
+        || (d2 == 0.0 && on_seg(q1, q2, p2))
+        || (d3 == 0.0 && on_seg(p1, p2, q1))
+        || (d4 == 0.0 && on_seg(p1, p2, q2))
 }
 
 impl Section {
