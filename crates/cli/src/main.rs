@@ -6,6 +6,7 @@
 //! ```
 
 mod mesh_cmd;
+mod plot;
 mod torsion;
 
 use clap::{Parser, Subcommand};
