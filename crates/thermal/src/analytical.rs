@@ -43,7 +43,10 @@ impl SlabConvectionSeries {
         let f = |l: f64| l * l.sin() - bi * l.cos();
         let lambdas = (0..terms)
             .map(|n| {
-                let (mut a, mut b) = (n as f64 * std::f64::consts::PI, n as f64 * std::f64::consts::PI + std::f64::consts::FRAC_PI_2);
+                let (mut a, mut b) = (
+                    n as f64 * std::f64::consts::PI,
+                    n as f64 * std::f64::consts::PI + std::f64::consts::FRAC_PI_2,
+                );
                 let fa = f(a);
                 for _ in 0..200 {
                     let m = 0.5 * (a + b);
@@ -151,12 +154,14 @@ impl ConcentricRings {
 
     /// Temperature in the inner ring at radius r.
     pub fn inner(&self, r: f64) -> f64 {
-        self.t_inner - self.heat_rate() * (r / self.r_a).ln() / (2.0 * std::f64::consts::PI * self.k1)
+        self.t_inner
+            - self.heat_rate() * (r / self.r_a).ln() / (2.0 * std::f64::consts::PI * self.k1)
     }
 
     /// Temperature in the outer ring at radius r.
     pub fn outer(&self, r: f64) -> f64 {
-        self.inner(self.r_b) - self.jump()
+        self.inner(self.r_b)
+            - self.jump()
             - self.heat_rate() * (r / self.r_b).ln() / (2.0 * std::f64::consts::PI * self.k2)
     }
 }

@@ -94,7 +94,9 @@ pub enum ThermalError {
         source: InterfaceGeometryError,
     },
     /// The number of interface states given does not match the interface.
-    #[error("interface '{interface}': {got} point states given, the interface has {expected} elements")]
+    #[error(
+        "interface '{interface}': {got} point states given, the interface has {expected} elements"
+    )]
     InterfaceStateLength {
         /// Interface name.
         interface: String,
@@ -109,6 +111,9 @@ pub enum ThermalError {
         /// Region name.
         region: String,
     },
+    /// A transient run was asked of a model without any initial temperature.
+    #[error("no initial temperature was given (set a default, per region or per node)")]
+    NoInitialTemperature,
     /// An initial temperature is not finite.
     #[error("initial temperature of {what} is not finite: {value}")]
     InvalidInitialTemperature {

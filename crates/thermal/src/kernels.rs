@@ -15,9 +15,7 @@
 
 use nalgebra::{Matrix2, Matrix4, SVector, Vector2};
 use tecon_fem::interface::{InterfaceGeometry, InterfaceQuadrature};
-use tecon_fem::triangle::{
-    TriangleGeometry, consistent_mass, laplace_matrix, lumped_mass,
-};
+use tecon_fem::triangle::{TriangleGeometry, consistent_mass, laplace_matrix, lumped_mass};
 use tecon_fem::{Element, LocalSystem};
 
 use crate::material::CapacityKind;
@@ -176,7 +174,9 @@ mod tests {
         let p = nodes;
         let b = [p[1][1] - p[2][1], p[2][1] - p[0][1], p[0][1] - p[1][1]];
         let c = [p[2][0] - p[1][0], p[0][0] - p[2][0], p[1][0] - p[0][0]];
-        let area = 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
+        let area = 0.5
+            * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
         for i in 0..3 {
             for j in 0..3 {
                 let e = 63.9 * (b[i] * b[j] + c[i] * c[j]) / (4.0 * area);
@@ -190,7 +190,12 @@ mod tests {
         let nodes = [[0.0, 0.0], [2.0, 0.0], [0.5, 1.5]];
         let tris = [[0usize, 1, 2]];
         for kind in [CapacityKind::Consistent, CapacityKind::Lumped] {
-            let set = CapacityElements { nodes: &nodes, triangles: &tris, rho_c: &[7.0], kind };
+            let set = CapacityElements {
+                nodes: &nodes,
+                triangles: &tris,
+                rho_c: &[7.0],
+                kind,
+            };
             let m = set.local(0).matrix;
             assert_relative_eq!(m.sum(), 7.0 * 1.5, epsilon = 1e-12);
         }
@@ -200,10 +205,22 @@ mod tests {
     fn convection_edge_matches_closed_form() {
         let ls = convection_edge(10.25, 21.0, 0.3);
         let s = 10.25 * 0.3 / 6.0;
-        assert_relative_eq!(ls.matrix, Matrix2::new(2.0 * s, s, s, 2.0 * s), epsilon = 1e-15);
-        assert_relative_eq!(ls.vector, Vector2::new(1.0, 1.0) * (10.25 * 21.0 * 0.15), epsilon = 1e-12);
+        assert_relative_eq!(
+            ls.matrix,
+            Matrix2::new(2.0 * s, s, s, 2.0 * s),
+            epsilon = 1e-15
+        );
+        assert_relative_eq!(
+            ls.vector,
+            Vector2::new(1.0, 1.0) * (10.25 * 21.0 * 0.15),
+            epsilon = 1e-12
+        );
         // K·[T∞, T∞] = f: no heat flows at ambient temperature.
-        assert_relative_eq!(ls.matrix * Vector2::new(21.0, 21.0), ls.vector, epsilon = 1e-12);
+        assert_relative_eq!(
+            ls.matrix * Vector2::new(21.0, 21.0),
+            ls.vector,
+            epsilon = 1e-12
+        );
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! `C/Δt + θK`, factorises once per distinct (Δt, θ) and then costs one
 //! mat-vec and one pair of triangular solves per step.
 //!
-//! ```no_run
+//! ```
 //! use tecon_mesh::{vessel_mesh, VesselGeometry, VesselMeshSpec};
 //! use tecon_thermal::{EdgeBc, Material, ThermalModel, ThetaScheme, TimeSchedule};
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -21,6 +21,13 @@
 //! model.set_initial_default(21.0)?.set_initial_region("weld", 1132.0)?;
 //! let schedule = TimeSchedule::segments(&[(10.0, 0.1), (600.0, 5.0), (36000.0, 120.0)])?;
 //! let snaps = model.solve_transient_collect(&schedule, ThetaScheme::crank_nicolson(), &[60.0, 36000.0])?;
+//! // After 10 h the vessel is back at ambient; the heat balance closed.
+//! assert!(snaps[1].temperature.iter().all(|t| (t - 21.0).abs() < 1e-3));
+//! assert!(snaps[1].balance.relative_residual() < 1e-10);
+//! // Coupling to the elastic solve: element temperatures and references.
+//! let system = model.assemble()?;
+//! let t_ref = system.reference_temperature().expect("initial temperature given");
+//! assert_eq!(t_ref.len(), snaps[1].element_temperature.len());
 //! # Ok(()) }
 //! ```
 //!
@@ -60,8 +67,8 @@ pub mod analytical;
 mod bc;
 mod conductance;
 mod error;
-pub mod kernels;
 mod initial;
+pub mod kernels;
 mod material;
 mod model;
 mod output;

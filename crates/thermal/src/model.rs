@@ -92,7 +92,11 @@ impl<'m> ThermalModel<'m> {
     }
 
     /// Gives `region` a material (k, ρ, c validated: positive and finite).
-    pub fn set_material(&mut self, region: &str, material: Material) -> Result<&mut Self, ThermalError> {
+    pub fn set_material(
+        &mut self,
+        region: &str,
+        material: Material,
+    ) -> Result<&mut Self, ThermalError> {
         material.validate(region)?;
         let r = self.mesh.region_index(region)?;
         self.materials[r] = Some(material);
@@ -100,7 +104,10 @@ impl<'m> ThermalModel<'m> {
     }
 
     /// Gives every region the same material.
-    pub fn set_material_everywhere(&mut self, material: Material) -> Result<&mut Self, ThermalError> {
+    pub fn set_material_everywhere(
+        &mut self,
+        material: Material,
+    ) -> Result<&mut Self, ThermalError> {
         for name in self.mesh.region_names() {
             material.validate(name)?;
         }
@@ -124,7 +131,11 @@ impl<'m> ThermalModel<'m> {
     }
 
     /// Prescribes the temperature of every node of `node_set`.
-    pub fn prescribe_node_set(&mut self, node_set: &str, value: f64) -> Result<&mut Self, ThermalError> {
+    pub fn prescribe_node_set(
+        &mut self,
+        node_set: &str,
+        value: f64,
+    ) -> Result<&mut Self, ThermalError> {
         EdgeBc::temperature(value).validate(node_set)?;
         self.mesh.node_set(node_set)?;
         self.node_temperatures.push((node_set.into(), value));
@@ -174,7 +185,11 @@ impl<'m> ThermalModel<'m> {
 
     /// Couples interface `name` with a constant conductance `h_c` (W/(m² K),
     /// positive), nodal integration.
-    pub fn set_interface_conductance(&mut self, name: &str, h_c: f64) -> Result<&mut Self, ThermalError> {
+    pub fn set_interface_conductance(
+        &mut self,
+        name: &str,
+        h_c: f64,
+    ) -> Result<&mut Self, ThermalError> {
         self.check_interface(name)?;
         let law = ConstantConductance::new(h_c).map_err(|_| ThermalError::InvalidConductance {
             interface: name.into(),
@@ -188,7 +203,8 @@ impl<'m> ThermalModel<'m> {
     /// Declares interface `name` adiabatic (no heat crosses it).
     pub fn set_interface_adiabatic(&mut self, name: &str) -> Result<&mut Self, ThermalError> {
         self.check_interface(name)?;
-        self.interfaces.insert(name.into(), InterfaceSpec::Adiabatic);
+        self.interfaces
+            .insert(name.into(), InterfaceSpec::Adiabatic);
         Ok(self)
     }
 
@@ -227,7 +243,11 @@ impl<'m> ThermalModel<'m> {
     }
 
     /// Initial temperature of `region`.
-    pub fn set_initial_region(&mut self, region: &str, value: f64) -> Result<&mut Self, ThermalError> {
+    pub fn set_initial_region(
+        &mut self,
+        region: &str,
+        value: f64,
+    ) -> Result<&mut Self, ThermalError> {
         check_finite(&format!("region '{region}'"), value)?;
         self.mesh.region_index(region)?;
         self.initial.regions.retain(|(r, _)| r != region);
@@ -344,16 +364,16 @@ impl<'m> ThermalModel<'m> {
         let mut dirichlet = Dirichlet::new();
         let mut source: BTreeMap<usize, (f64, String)> = BTreeMap::new();
         let mut prescribe = |node: usize, v: f64, set: &str| -> Result<(), ThermalError> {
-            if let Some((first, first_set)) = source.get(&node) {
-                if *first != v {
-                    return Err(ThermalError::ConflictingTemperature {
-                        node,
-                        first: *first,
-                        first_set: first_set.clone(),
-                        second: v,
-                        second_set: set.into(),
-                    });
-                }
+            if let Some((first, first_set)) = source.get(&node)
+                && *first != v
+            {
+                return Err(ThermalError::ConflictingTemperature {
+                    node,
+                    first: *first,
+                    first_set: first_set.clone(),
+                    second: v,
+                    second_set: set.into(),
+                });
             }
             source.insert(node, (v, set.into()));
             dirichlet.set(node, v);
@@ -397,12 +417,12 @@ impl<'m> ThermalModel<'m> {
         let mut interfaces = InterfaceElements::default();
         let mut ranges = Vec::new();
         for name in mesh.interfaces().keys() {
-            let spec = self
-                .interfaces
-                .get(name)
-                .ok_or_else(|| ThermalError::MissingInterfaceLaw {
-                    interface: name.clone(),
-                })?;
+            let spec =
+                self.interfaces
+                    .get(name)
+                    .ok_or_else(|| ThermalError::MissingInterfaceLaw {
+                        interface: name.clone(),
+                    })?;
             let InterfaceSpec::Law { law, rule, states } = spec else {
                 continue;
             };
@@ -515,16 +535,18 @@ pub fn run_transient<F: FnMut(&Snapshot)>(
 ) -> Result<TransientSummary, ThermalError> {
     let initial = system
         .initial_temperature()
-        .ok_or_else(|| ThermalError::MissingInitialTemperature {
-            region: "(all: no initial temperature was given)".into(),
-        })?
+        .ok_or(ThermalError::NoInitialTemperature)?
         .to_vec();
     let (start, end) = (schedule.start(), schedule.end());
     let slack = 1e-9 * (end - start);
     let mut outs: Vec<f64> = output_times.to_vec();
     for &t in &outs {
         if !(t.is_finite() && t >= start - slack && t <= end + slack) {
-            return Err(ThermalError::OutputTimeOutOfRange { time: t, start, end });
+            return Err(ThermalError::OutputTimeOutOfRange {
+                time: t,
+                start,
+                end,
+            });
         }
     }
     outs.sort_by(f64::total_cmp);

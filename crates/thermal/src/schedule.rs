@@ -246,7 +246,10 @@ mod tests {
     #[test]
     fn theta_scheme_uses_backward_euler_for_the_start_up() {
         let cn = ThetaScheme::crank_nicolson();
-        assert_eq!((cn.theta_at(0), cn.theta_at(1), cn.theta_at(2)), (1.0, 1.0, 0.5));
+        assert_eq!(
+            (cn.theta_at(0), cn.theta_at(1), cn.theta_at(2)),
+            (1.0, 1.0, 0.5)
+        );
         assert_eq!(ThetaScheme::backward_euler().theta_at(0), 1.0);
         assert!(ThetaScheme::new(1.2, 0).is_err());
     }

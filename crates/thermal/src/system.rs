@@ -1,5 +1,5 @@
-//! The assembled spatial operator: conductivity K (conduction + convection
-//! + interfaces), capacity C, load F, prescribed temperatures — assembled
+//! The assembled spatial operator: conductivity K (conduction, convection
+//! and interfaces), capacity C, load F, prescribed temperatures — assembled
 //! once, combined per time step by the stepper.
 
 use std::sync::Arc;
@@ -275,7 +275,11 @@ impl<'m> ThermalSystem<'m> {
     }
 
     /// A θ-method stepper starting from `initial` at time `t0`.
-    pub fn stepper(&self, initial: Vec<f64>, t0: f64) -> Result<ThetaStepper<'_, 'm>, ThermalError> {
+    pub fn stepper(
+        &self,
+        initial: Vec<f64>,
+        t0: f64,
+    ) -> Result<ThetaStepper<'_, 'm>, ThermalError> {
         ThetaStepper::new(self, initial, t0)
     }
 
@@ -318,9 +322,7 @@ impl<'m> ThermalSystem<'m> {
             flux_in: self.flux_load,
             prescribed_in: reactions.iter().sum(),
             residual: 0.0,
-            scale: conv_gross
-                + self.flux_gross()
-                + reactions.iter().map(|r| r.abs()).sum::<f64>(),
+            scale: conv_gross + self.flux_gross() + reactions.iter().map(|r| r.abs()).sum::<f64>(),
         }
         .close();
         Ok(self.snapshot(0.0, 0, t, balance))
@@ -377,7 +379,9 @@ impl<'m> ThermalSystem<'m> {
                 let elements: Vec<InterfaceFlux> = r
                     .range
                     .clone()
-                    .map(|e| interface_flux(&ie.geometry[e], ie.rule[e], ie.h_c[e], ie.nodes[e], &t))
+                    .map(|e| {
+                        interface_flux(&ie.geometry[e], ie.rule[e], ie.h_c[e], ie.nodes[e], &t)
+                    })
                     .collect();
                 let heat_rate = elements.iter().map(|f| f.heat_rate).sum();
                 InterfaceResult {

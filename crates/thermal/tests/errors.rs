@@ -7,9 +7,7 @@
 //! and two concentric rings `a`, `b` joined by interface `a_b`.
 
 use tecon_mesh::{Mesh, RingLayer, layered_annulus, rectangle};
-use tecon_thermal::{
-    EdgeBc, Material, ThermalError, ThermalModel, ThetaScheme, TimeSchedule,
-};
+use tecon_thermal::{EdgeBc, Material, ThermalError, ThermalModel, ThetaScheme, TimeSchedule};
 
 fn square() -> Mesh {
     rectangle(0.0, 0.0, 1.0, 1.0, 4, 4).unwrap()
@@ -18,8 +16,18 @@ fn square() -> Mesh {
 fn rings() -> Mesh {
     layered_annulus(
         &[
-            RingLayer { name: "a".into(), r_in: 1.0, r_out: 1.5, rows: 2 },
-            RingLayer { name: "b".into(), r_in: 1.5, r_out: 2.0, rows: 2 },
+            RingLayer {
+                name: "a".into(),
+                r_in: 1.0,
+                r_out: 1.5,
+                rows: 2,
+            },
+            RingLayer {
+                name: "b".into(),
+                r_in: 1.5,
+                r_out: 2.0,
+                rows: 2,
+            },
         ],
         0.0,
         std::f64::consts::TAU,
@@ -41,7 +49,11 @@ fn non_positive_material_properties_are_rejected_with_the_region() {
         let mut model = ThermalModel::new(&mesh);
         let err = model.set_material("domain", m).unwrap_err();
         match &err {
-            ThermalError::InvalidMaterial { region, property: p, .. } => {
+            ThermalError::InvalidMaterial {
+                region,
+                property: p,
+                ..
+            } => {
                 assert_eq!(region, "domain");
                 assert_eq!(*p, property);
             }
@@ -51,7 +63,9 @@ fn non_positive_material_properties_are_rejected_with_the_region() {
     }
     // Unknown region: the mesh's error, listing the regions.
     let mut model = ThermalModel::new(&mesh);
-    let err = model.set_material("weld", Material::vessel_steel()).unwrap_err();
+    let err = model
+        .set_material("weld", Material::vessel_steel())
+        .unwrap_err();
     assert!(matches!(err, ThermalError::Mesh(_)), "{err:?}");
     assert!(err.to_string().contains("weld"), "{err}");
     // A region without material.
@@ -70,7 +84,9 @@ fn non_positive_film_coefficient_and_conductance_are_rejected() {
     let mesh = rings();
     let mut model = ThermalModel::new(&mesh);
     for h in [0.0, -10.25, f64::INFINITY] {
-        let err = model.add_edge_bc("outer", EdgeBc::convection(h, 21.0)).unwrap_err();
+        let err = model
+            .add_edge_bc("outer", EdgeBc::convection(h, 21.0))
+            .unwrap_err();
         match err {
             ThermalError::InvalidBoundary { set, what, .. } => {
                 assert_eq!(set, "outer");
@@ -109,7 +125,9 @@ fn a_law_returning_a_negative_conductance_is_caught_with_the_element() {
     }
     let mesh = rings();
     let mut model = ThermalModel::new(&mesh);
-    model.set_material_everywhere(Material::vessel_steel()).unwrap();
+    model
+        .set_material_everywhere(Material::vessel_steel())
+        .unwrap();
     model
         .set_interface_law("a_b", Bad, tecon_thermal::InterfaceQuadrature::Nodal)
         .unwrap();
@@ -136,10 +154,14 @@ fn a_law_returning_a_negative_conductance_is_caught_with_the_element() {
 fn an_interface_without_a_law_is_named() {
     let mesh = rings();
     let mut model = ThermalModel::new(&mesh);
-    model.set_material_everywhere(Material::vessel_steel()).unwrap();
+    model
+        .set_material_everywhere(Material::vessel_steel())
+        .unwrap();
     assert_eq!(
         model.assemble().unwrap_err(),
-        ThermalError::MissingInterfaceLaw { interface: "a_b".into() }
+        ThermalError::MissingInterfaceLaw {
+            interface: "a_b".into()
+        }
     );
 }
 
@@ -148,10 +170,15 @@ fn singular_steady_problems_name_the_free_body() {
     // One body, all edges adiabatic.
     let mesh = square();
     let mut model = ThermalModel::new(&mesh);
-    model.set_material_everywhere(Material::vessel_steel()).unwrap();
+    model
+        .set_material_everywhere(Material::vessel_steel())
+        .unwrap();
     model.add_edge_bc("left", EdgeBc::flux(100.0)).unwrap();
     match model.solve_steady().unwrap_err() {
-        ThermalError::SingularSteady { bodies, description } => {
+        ThermalError::SingularSteady {
+            bodies,
+            description,
+        } => {
             assert_eq!(bodies, vec!["domain".to_string()]);
             assert!(description.contains("domain"));
         }
@@ -225,8 +252,14 @@ fn schedules_that_do_not_advance_are_rejected() {
         .unwrap();
     let system = model.assemble().unwrap();
     let mut st = system.stepper(vec![21.0; mesh.n_nodes()], 0.0).unwrap();
-    assert!(matches!(st.step(0.0, 1.0), Err(ThermalError::ScheduleDoesNotAdvance { .. })));
-    assert!(matches!(st.step(1.0, 0.3), Err(ThermalError::InvalidTheta { .. })));
+    assert!(matches!(
+        st.step(0.0, 1.0),
+        Err(ThermalError::ScheduleDoesNotAdvance { .. })
+    ));
+    assert!(matches!(
+        st.step(1.0, 0.3),
+        Err(ThermalError::InvalidTheta { .. })
+    ));
     assert!(ThetaScheme::new(0.4, 0).is_err());
     // Output times outside the schedule.
     let sch = TimeSchedule::uniform(1.0, 3).unwrap();
@@ -262,6 +295,16 @@ fn initial_and_prescribed_temperature_mistakes_are_named() {
         model.set_initial_node(100_000, 1.0),
         Err(ThermalError::NodeOutOfRange { .. })
     ));
+    let mut bare = ThermalModel::new(&mesh);
+    bare.set_material_everywhere(Material::vessel_steel())
+        .unwrap()
+        .set_interface_conductance("a_b", 850.0)
+        .unwrap();
+    assert_eq!(
+        bare.solve_transient_collect(&sch, ThetaScheme::backward_euler(), &[])
+            .unwrap_err(),
+        ThermalError::NoInitialTemperature
+    );
     // Two sets prescribing different temperatures at shared nodes.
     let mesh = square();
     let mut model = ThermalModel::new(&mesh);
@@ -273,8 +316,16 @@ fn initial_and_prescribed_temperature_mistakes_are_named() {
         .add_edge_bc("bottom", EdgeBc::temperature(20.0))
         .unwrap();
     match model.assemble().unwrap_err() {
-        ThermalError::ConflictingTemperature { first_set, second_set, node, .. } => {
-            assert_eq!((first_set.as_str(), second_set.as_str()), ("left", "bottom"));
+        ThermalError::ConflictingTemperature {
+            first_set,
+            second_set,
+            node,
+            ..
+        } => {
+            assert_eq!(
+                (first_set.as_str(), second_set.as_str()),
+                ("left", "bottom")
+            );
             assert_eq!(node, 0);
         }
         other => panic!("unexpected {other:?}"),

@@ -54,14 +54,18 @@ fn one_factorisation_per_distinct_step_and_theta() {
     assert!((times[2] - 100.0).abs() < 1e-9);
     // Alternating step sizes within the pool size never refactorise.
     let system = m.assemble().unwrap();
-    let mut st = system.stepper(system.initial_temperature().unwrap().to_vec(), 0.0).unwrap();
+    let mut st = system
+        .stepper(system.initial_temperature().unwrap().to_vec(), 0.0)
+        .unwrap();
     for k in 0..20 {
         st.step(if k % 3 == 0 { 0.5 } else { 0.25 }, 1.0).unwrap();
     }
     assert_eq!(st.stats().factorisations, 2);
     assert_eq!(st.stats().analyses, 2);
     // A pool of one refactorises on every change but never re-analyses.
-    let mut st = system.stepper(system.initial_temperature().unwrap().to_vec(), 0.0).unwrap();
+    let mut st = system
+        .stepper(system.initial_temperature().unwrap().to_vec(), 0.0)
+        .unwrap();
     st.set_pool_size(1);
     for k in 0..6 {
         st.step(if k % 2 == 0 { 0.5 } else { 0.25 }, 1.0).unwrap();
@@ -134,7 +138,12 @@ fn coupling_output_reference_and_element_temperatures() {
             } else {
                 20.0
             };
-            assert!((t0[i] - expect).abs() < 1e-9, "{rule:?}: node {i} at x = {}: {}", p[0], t0[i]);
+            assert!(
+                (t0[i] - expect).abs() < 1e-9,
+                "{rule:?}: node {i} at x = {}: {}",
+                p[0],
+                t0[i]
+            );
         }
         // T_ref = element mean of the initial field: a snapshot at t = 0 has
         // element temperatures equal to T_ref (zero thermal strain).

@@ -61,7 +61,11 @@ fn slab_run(nx: usize, capacity: CapacityKind, scheme: ThetaScheme, n_steps: usi
     }
     assert_relative_eq!(stepper.time(), SLAB_T1, epsilon = 1e-12);
     // One factorisation per θ (start-up BE, then the scheme's θ).
-    let expected_factorisations = if scheme.startup_steps() > 0 && scheme.theta() != 1.0 { 2 } else { 1 };
+    let expected_factorisations = if scheme.startup_steps() > 0 && scheme.theta() != 1.0 {
+        2
+    } else {
+        1
+    };
     assert_eq!(stepper.stats().factorisations, expected_factorisations);
     let err = mesh
         .nodes()
@@ -121,12 +125,19 @@ fn slab_temporal_orders_backward_euler_one_crank_nicolson_two() {
     let dts: Vec<f64> = ns.iter().map(|&n| (SLAB_T1 - SLAB_T0) / n as f64).collect();
     for (scheme, order, name) in [
         (ThetaScheme::backward_euler(), 1.0, "backward Euler"),
-        (ThetaScheme::crank_nicolson(), 2.0, "Crank-Nicolson (2 BE start-up steps)"),
+        (
+            ThetaScheme::crank_nicolson(),
+            2.0,
+            "Crank-Nicolson (2 BE start-up steps)",
+        ),
     ] {
         let mut errs = Vec::new();
         for &n in &ns {
             let (e, bal) = slab_run(1000, CapacityKind::Consistent, scheme, n);
-            assert!(bal < 1e-10, "heat balance residual {bal:e} ({name}, {n} steps)");
+            assert!(
+                bal < 1e-10,
+                "heat balance residual {bal:e} ({name}, {n} steps)"
+            );
             println!("slab time {name}: {n:4} steps, max error {e:.3e}, balance {bal:.1e}");
             errs.push(e);
         }
@@ -211,7 +222,11 @@ fn rings_errors<L: ConductanceLaw + 'static>(
         .enumerate()
         .map(|(i, p)| {
             let r = (p[0] * p[0] + p[1] * p[1]).sqrt();
-            let exact = if in_a[i] { rings.inner(r) } else { rings.outer(r) };
+            let exact = if in_a[i] {
+                rings.inner(r)
+            } else {
+                rings.outer(r)
+            };
             (snap.temperature[i] - exact).abs()
         })
         .fold(0.0, f64::max);
@@ -226,7 +241,11 @@ fn rings_errors<L: ConductanceLaw + 'static>(
         .fold(0.0, f64::max);
     // Total heat through the interface (top → bottom is inward: −Q).
     let err_q = (itf.heat_rate + rings.heat_rate()).abs() / rings.heat_rate();
-    assert!(snap.balance.relative_residual() < 1e-10, "steady balance {:e}", snap.balance.relative_residual());
+    assert!(
+        snap.balance.relative_residual() < 1e-10,
+        "steady balance {:e}",
+        snap.balance.relative_residual()
+    );
     (err_t, err_jump, err_q)
 }
 
@@ -262,7 +281,11 @@ fn rings_with_interface_jump_and_temperatures_converge_at_order_two() {
             eq.push(q);
             hs.push(1.0 / (1u64 << level) as f64);
         }
-        let (pt, pj, pq) = (fitted_slope(&hs, &et), fitted_slope(&hs, &ej), fitted_slope(&hs, &eq));
+        let (pt, pj, pq) = (
+            fitted_slope(&hs, &et),
+            fitted_slope(&hs, &ej),
+            fitted_slope(&hs, &eq),
+        );
         println!("rings {rule:?}: fitted orders T {pt:.3}, jump {pj:.3}, Q {pq:.3}");
         for (p, what) in [(pt, "temperature"), (pj, "jump"), (pq, "heat rate")] {
             assert!((p - 2.0).abs() < 0.15, "{what} order {p} ({rule:?})");
@@ -295,13 +318,34 @@ fn pressure_dependent_conductance_law_plugs_in() {
     let mesh = rings_mesh(2);
     let n = mesh.interface("a_b").unwrap().elements.len();
     let p = 5.0e5;
-    let law = || PressureLaw { h0: 0.5, slope: 3.0e-6 };
-    let with_p = ConcentricRings { h_c: 0.5 + 3.0e-6 * p, ..RINGS };
+    let law = || PressureLaw {
+        h0: 0.5,
+        slope: 3.0e-6,
+    };
+    let with_p = ConcentricRings {
+        h_c: 0.5 + 3.0e-6 * p,
+        ..RINGS
+    };
     let without = ConcentricRings { h_c: 0.5, ..RINGS };
-    let states = vec![[InterfacePointState { gap: 0.0, pressure: p }; 2]; n];
-    let (_, ej, _) = rings_errors(&mesh, law(), InterfaceQuadrature::Nodal, &with_p, Some(states));
+    let states = vec![
+        [InterfacePointState {
+            gap: 0.0,
+            pressure: p
+        }; 2];
+        n
+    ];
+    let (_, ej, _) = rings_errors(
+        &mesh,
+        law(),
+        InterfaceQuadrature::Nodal,
+        &with_p,
+        Some(states),
+    );
     let (_, ej0, _) = rings_errors(&mesh, law(), InterfaceQuadrature::Nodal, &without, None);
-    println!("pressure law: jump errors {ej:.3e} (h_c = {}), {ej0:.3e} (h_c = 0.5)", with_p.h_c);
+    println!(
+        "pressure law: jump errors {ej:.3e} (h_c = {}), {ej0:.3e} (h_c = 0.5)",
+        with_p.h_c
+    );
     assert!(ej < 2e-3 * with_p.jump());
     assert!(ej0 < 2e-3 * without.jump());
     assert!((with_p.jump() - without.jump()).abs() > 0.3 * without.jump());
@@ -345,7 +389,9 @@ fn patch_test_linear_field_is_reproduced() {
     };
     // (a) Dirichlet everywhere.
     let mut model_a = ThermalModel::new(&mesh);
-    model_a.set_material_everywhere(Material::new(k, 2.0, 3.0)).unwrap();
+    model_a
+        .set_material_everywhere(Material::new(k, 2.0, 3.0))
+        .unwrap();
     for name in ["left", "right", "bottom", "top"] {
         for &i in mesh.node_set(name).unwrap() {
             model_a.prescribe_node(i, linear(mesh.nodes()[i])).unwrap();
@@ -364,7 +410,9 @@ fn patch_test_linear_field_is_reproduced() {
     assert!(snap.balance.relative_residual() < 1e-12);
     // (b) Dirichlet on the left, fluxes elsewhere: q_in = k ∇T·n.
     let mut model_b = ThermalModel::new(&mesh);
-    model_b.set_material_everywhere(Material::new(k, 2.0, 3.0)).unwrap();
+    model_b
+        .set_material_everywhere(Material::new(k, 2.0, 3.0))
+        .unwrap();
     for &i in mesh.node_set("left").unwrap() {
         model_b.prescribe_node(i, linear(mesh.nodes()[i])).unwrap();
     }
@@ -379,11 +427,17 @@ fn patch_test_linear_field_is_reproduced() {
     check(&snap.temperature, "(b) fluxes");
     assert!(snap.balance.relative_residual() < 1e-12);
     // (c) transient from the linear field with the boundary prescribed.
-    let system = model_a.set_initial_default(0.0).unwrap().assemble().unwrap();
+    let system = model_a
+        .set_initial_default(0.0)
+        .unwrap()
+        .assemble()
+        .unwrap();
     let t0: Vec<f64> = mesh.nodes().iter().map(|p| linear(*p)).collect();
     let mut stepper = system.stepper(t0, 0.0).unwrap();
     for k in 0..5 {
-        stepper.step(0.01 * (k + 1) as f64, if k < 2 { 1.0 } else { 0.5 }).unwrap();
+        stepper
+            .step(0.01 * (k + 1) as f64, if k < 2 { 1.0 } else { 0.5 })
+            .unwrap();
     }
     check(stepper.temperature(), "(c) transient");
     assert!(stepper.balance().stored_change.abs() < 1e-10);
@@ -432,14 +486,21 @@ fn patch_test_two_bodies_across_an_interface() {
             )
             .unwrap();
         let snap = model.solve_steady().unwrap();
-        let left_body = mesh.node_bodies()[mesh.triangles()[mesh.region_elements("left").unwrap()[0]][0]];
+        let left_body =
+            mesh.node_bodies()[mesh.triangles()[mesh.region_elements("left").unwrap()[0]][0]];
         let err = mesh
             .nodes()
             .iter()
             .enumerate()
-            .map(|(i, p)| (snap.temperature[i] - exact(*p, mesh.node_bodies()[i] == left_body)).abs())
+            .map(|(i, p)| {
+                (snap.temperature[i] - exact(*p, mesh.node_bodies()[i] == left_body)).abs()
+            })
             .fold(0.0, f64::max);
-        println!("two-body patch {rule:?}: max error {err:.2e}, jump {:.6} (exact {:.6})", snap.interfaces[0].elements[0].jump[0], -q / hc);
+        println!(
+            "two-body patch {rule:?}: max error {err:.2e}, jump {:.6} (exact {:.6})",
+            snap.interfaces[0].elements[0].jump[0],
+            -q / hc
+        );
         assert!(err < 1e-11 * ta, "two-body patch {rule:?}: error {err:e}");
         for f in &snap.interfaces[0].elements {
             for p in 0..2 {
@@ -489,11 +550,15 @@ fn vessel_weld_cooling_closes_the_heat_balance() {
         .unwrap()
         .set_initial_region("weld", 1132.0)
         .unwrap();
-    let schedule = TimeSchedule::segments(&[(2.0, 0.05), (60.0, 1.0), (3600.0, 30.0), (36000.0, 600.0)]).unwrap();
+    let schedule =
+        TimeSchedule::segments(&[(2.0, 0.05), (60.0, 1.0), (3600.0, 30.0), (36000.0, 600.0)])
+            .unwrap();
     let outs = [0.0, 1.0, 10.0, 45.5, 600.0, 3600.0, 36000.0];
     let mut snaps = Vec::new();
     let summary = model
-        .solve_transient(&schedule, ThetaScheme::crank_nicolson(), &outs, |s| snaps.push(s.clone()))
+        .solve_transient(&schedule, ThetaScheme::crank_nicolson(), &outs, |s| {
+            snaps.push(s.clone())
+        })
         .unwrap();
     println!("vessel: {summary:?}");
     assert_eq!(snaps.len(), outs.len());
@@ -519,7 +584,10 @@ fn vessel_weld_cooling_closes_the_heat_balance() {
         .temperature
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), &t| (a.min(t), b.max(t)));
-    assert!(hi - lo < 1e-3 && (lo - 21.0).abs() < 1e-3, "back at ambient: {lo} … {hi}");
+    assert!(
+        hi - lo < 1e-3 && (lo - 21.0).abs() < 1e-3,
+        "back at ambient: {lo} … {hi}"
+    );
     // ... so the heat lost is the initial excess content of the weld,
     // Σ_weld ρc A (1132 − 21) (the border rule keeps the content).
     let rc = Material::vessel_steel().volumetric_capacity();

@@ -95,13 +95,8 @@ pub fn two_blocks(lx: f64, xm: f64, ly: f64, nx: usize, ny: usize) -> Mesh {
         }
         ids.push(id);
     }
-    let mut mesh = Mesh::new(
-        nodes,
-        tris,
-        region,
-        vec!["left".into(), "right".into()],
-    )
-    .expect("two blocks");
+    let mut mesh =
+        Mesh::new(nodes, tris, region, vec!["left".into(), "right".into()]).expect("two blocks");
     let (l, r) = (ids[0], ids[1]);
     let col = |f: &dyn Fn(usize, usize) -> usize, i: usize| -> Vec<[usize; 2]> {
         (0..ny).map(|j| [f(i, j), f(i, j + 1)]).collect()
