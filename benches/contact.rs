@@ -27,7 +27,9 @@ fn paper_joint() -> PaperJoint {
 
 /// Deterministic pseudo-random numbers in [−1, 1) (no extra dependency).
 fn lcg(seed: &mut u64) -> f64 {
-    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
 }
 
@@ -38,7 +40,12 @@ fn bench_laws(c: &mut Criterion) {
         .map(|_| Vector2::new(1e-7 * lcg(&mut seed), -1.5e-6 + 1e-7 * lcg(&mut seed)))
         .collect();
     let slip: Vec<Vector2<f64>> = (0..N)
-        .map(|_| Vector2::new(5e-5 * lcg(&mut seed).signum(), -0.5e-6 + 1e-7 * lcg(&mut seed)))
+        .map(|_| {
+            Vector2::new(
+                5e-5 * lcg(&mut seed).signum(),
+                -0.5e-6 + 1e-7 * lcg(&mut seed),
+            )
+        })
         .collect();
     let lin = LinearJoint::new(3.0e11, 7.0e11).expect("valid law");
     let law = paper_joint();

@@ -119,7 +119,7 @@ impl<N: NormalLaw> ContactLaw for ElasticJoint<N> {
 /// non-symmetric when slipping. `k_n = ∂σ/∂Δu_n` from the normal law.
 ///
 /// **Open faces and tension cut-off.** When the normal law is in its
-/// separation stage (Ghaboussi, `ε_n ≥ 0`) the joint transmits no traction
+/// separation stage (Ghaboussi, `ε_n > 0`) the joint transmits no traction
 /// at all, whatever the cohesion (`k_n = k_s = 0`); the faces slide freely,
 /// so `g_s` follows `Δu_t` and the shear spring is unstretched when the
 /// faces close again (this free sliding is not added to

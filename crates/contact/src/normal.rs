@@ -7,10 +7,10 @@ use std::fmt::Debug;
 /// Stage of a normal law at one point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum NormalStage {
-    /// Faces separated (`ε_n ≥ 0` with no multiplier): zero traction, zero
+    /// Faces separated (`ε_n > 0` with no multiplier): zero traction, zero
     /// normal and tangential stiffness.
     Separation,
-    /// Ghaboussi crushing stage `ε_n^c ≤ ε_n < 0`: `k_n = E/t`.
+    /// Ghaboussi crushing stage `ε_n^c < ε_n ≤ 0`: `k_n = E/t`.
     Crushing,
     /// Ghaboussi contact stage `ε_n < ε_n^c` (or a positive penalty /
     /// multiplier pressure): `k_n = E_f/t`, the stiff (penalty) stage.
@@ -51,10 +51,16 @@ pub trait NormalLaw: Clone + Debug + Send + Sync {
 /// thickness `t`, in terms of the normal strain `ε_n = Δu_n / t`:
 ///
 /// ```text
-///   separation  ε_n ≥ 0            σ = 0                     k_n = 0 (and k_s = 0)
-///   crushing    ε_n^c ≤ ε_n < 0    σ = E ε_n                 k_n = E/t
-///   contact     ε_n < ε_n^c        σ = E ε_n^c + E_f (ε_n − ε_n^c)   k_n = E_f/t
+///   separation  ε_n > 0            σ = 0                     k_n = 0 (and k_s = 0)
+///   crushing    ε_n^c < ε_n ≤ 0    σ = E ε_n                 k_n = E/t
+///   contact     ε_n ≤ ε_n^c        σ = E ε_n^c + E_f (ε_n − ε_n^c)   k_n = E_f/t
 /// ```
+///
+/// The traction is continuous; at a stage boundary the stiffer (closed)
+/// branch is taken, so faces that just touch (`ε_n = 0`, e.g. the
+/// undeformed state) are closed and carry `k_n > 0` (and `k_s`, and the
+/// cohesion) from the first Newton iteration. The paper's stage ranges
+/// share their end points, so this only fixes which tangent is used there.
 ///
 /// `ε_n^c ≤ 0`; smooth surfaces have `ε_n^c = 0` (no crushing stage) and
 /// the law is then a unilateral penalty with `k_n = E_f/t`.
@@ -178,11 +184,15 @@ impl NormalLaw for GhaboussiNormal {
     #[inline]
     fn normal(&self, du_n: f64, lambda: f64) -> NormalResponse {
         // Crushing part: E·clamp(−ε_n, 0, −ε_n^c), written with Δu_n = t ε_n.
-        let crushing = du_n < 0.0 && du_n > self.closure;
+        // Touching faces (ε_n = 0) are closed, as in the contact branch below.
+        let crushing = du_n <= 0.0 && du_n > self.closure;
         let p_crush = self.k_crush * (-du_n).clamp(0.0, -self.closure);
         // Contact (penalty) part beyond the crushing limit, with multiplier.
         let p_trial = lambda - self.k_contact * (du_n - self.closure);
-        let contact = p_trial > 0.0;
+        // Touching faces (p_trial = 0, e.g. the undeformed state) count as
+        // closed: the kink belongs to the contact branch, so bodies that touch
+        // initially are supported from the first Newton iteration.
+        let contact = p_trial >= 0.0;
         let p_x = if contact { p_trial } else { 0.0 };
         let mut stiffness = 0.0;
         if crushing {

@@ -171,6 +171,28 @@ fn ghaboussi_three_stages() {
 }
 
 #[test]
+fn touching_faces_are_closed() {
+    // ε_n = 0 exactly: no traction yet, but the closed branch's stiffness,
+    // so a Newton solver starting from touching bodies has support.
+    let smooth = GhaboussiNormal::smooth(2.0e11, 1.0e-3).unwrap();
+    let r = smooth.normal(0.0, 0.0);
+    assert_eq!((r.sigma, r.stage), (-0.0, NormalStage::Contact));
+    assert_eq!(r.stiffness, smooth.contact_stiffness());
+    let rough = rough_ghaboussi();
+    let r = rough.normal(0.0, 0.0);
+    assert_eq!((r.sigma, r.stage), (-0.0, NormalStage::Crushing));
+    assert_eq!(r.stiffness, rough.crushing_stiffness());
+    // The smallest opening separates.
+    assert_eq!(smooth.normal(1e-300, 0.0).stage, NormalStage::Separation);
+    assert_eq!(rough.normal(1e-300, 0.0).stage, NormalStage::Separation);
+    // Mohr–Coulomb at touching: the shear spring and the cohesion act.
+    let law = MohrCoulomb::new(rough, 3.0e11, 0.4e6, 0.5).unwrap();
+    let r = law.evaluate(&Vector2::new(2.0e-6, 0.0), &JointState::default());
+    assert_eq!(r.status, ContactStatus::Slip);
+    assert_relative_eq!(r.traction.x, 0.4e6, max_relative = 1e-14);
+}
+
+#[test]
 fn normal_law_fd_tangent_in_every_stage() {
     let g = rough_ghaboussi();
     let lin = LinearNormal::new(5.0e11).unwrap();
