@@ -1,0 +1,153 @@
+//! End-to-end tests of `tecon torsion`.
+//!
+//! Reference: issue 7 (CLI, JSON keys, errors) and WAVELET_BEM.md §4
+//! (ellipse: J = πa³b³/(a² + b²), τ_max = 2a²b/(a² + b²)).
+//!
+//! Goal: the binary reports the closed-form values, writes the boundary CSV
+//! and plots, reads section files, and turns every bad input into a one-line
+//! error with a non-zero exit code (never a panic).
+//!
+//! ```text
+//!   tecon torsion --section SPEC [--n N] [--method M] [--format json] [--out DIR] [--study]
+//!        │
+//!        ├── stdout: text or one JSON object
+//!        └── DIR: boundary.csv, boundary_shear.{svg,png}, section_shear.{svg,png}
+//! ```
+//!
+//! Checked: JSON values against closed forms, singular flag, files, study
+//! orders, error messages naming the field.
+
+use std::f64::consts::PI;
+use std::process::Command;
+
+fn tecon(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_tecon")).arg("torsion").args(args).output().expect("run tecon");
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let mut a = args.to_vec();
+    a.extend(["--format", "json"]);
+    let (ok, out, err) = tecon(&a);
+    assert!(ok, "tecon {args:?} failed: {err}");
+    serde_json::from_str(&out).expect("valid JSON")
+}
+
+#[test]
+fn ellipse_json_matches_closed_form_for_every_method() {
+    let (a, b) = (2.0f64, 1.0f64);
+    let j = PI * a.powi(3) * b.powi(3) / (a * a + b * b);
+    let tau = 2.0 * a * a * b / (a * a + b * b);
+    for m in ["daubechies", "shannon", "nystrom"] {
+        let v = json(&["--section", "ellipse:a=2,b=1", "--method", m]);
+        for key in ["torsional_rigidity", "max_shear_stress", "max_shear_stress_at", "singular", "n", "method", "multiplier"] {
+            assert!(v.get(key).is_some(), "{m}: key {key} missing");
+        }
+        let jj = v["torsional_rigidity"].as_f64().unwrap();
+        let tt = v["max_shear_stress"].as_f64().unwrap();
+        assert!((jj / j - 1.0).abs() < 1e-12, "{m}: J {jj}");
+        assert!((tt / tau - 1.0).abs() < 1e-12, "{m}: τ {tt}");
+        let at = v["max_shear_stress_at"].as_array().unwrap();
+        assert!(at[0].as_f64().unwrap().abs() < 1e-6 && (at[1].as_f64().unwrap().abs() - 1.0).abs() < 1e-9);
+        assert_eq!(v["singular"], false);
+        assert_eq!(v["method"], m);
+        assert!(v["multiplier"].as_f64().unwrap().abs() < 1e-12);
+    }
+}
+
+#[test]
+fn reentrant_corner_and_cusp_are_singular() {
+    let v = json(&["--section", "polygon:0,0;2,0;2,1;1,1;1,2;0,2", "--n", "256"]);
+    assert_eq!(v["singular"], true);
+    assert!(v["max_shear_stress"].is_null());
+    assert_eq!(v["max_shear_stress_at"], serde_json::json!([1.0, 1.0]));
+    let v = json(&["--section", "limacon:a=1,c=0.5"]);
+    assert_eq!(v["singular"], true);
+    let j = v["torsional_rigidity"].as_f64().unwrap();
+    assert!((j / (17.0 * PI / 16.0) - 1.0).abs() < 1e-6, "cardioid J {j}");
+}
+
+#[test]
+fn out_dir_has_csv_and_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let (ok, out, err) = tecon(&["--section", "ellipse:a=2,b=1", "--out", d, "--points", "0.5,0.25;0,0"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("torsional rigidity") && out.contains("point (0.500000, 0.250000)"));
+    for f in ["boundary.csv", "boundary_shear.svg", "boundary_shear.png", "section_shear.svg", "section_shear.png"] {
+        let p = dir.path().join(f);
+        assert!(std::fs::metadata(&p).map(|m| m.len() > 100).unwrap_or(false), "{f} missing or empty");
+    }
+    // CSV |q| against the exact distribution 2ab√(b²cos²t + a²sin²t)/(a² + b²)
+    let csv = std::fs::read_to_string(dir.path().join("boundary.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "t,s,x,y,q,tau");
+    let mut count = 0;
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        let t = (v[3] / 1.0).atan2(v[2] / 2.0);
+        let exact = 4.0 * (t.cos().powi(2) + 4.0 * t.sin().powi(2)).sqrt() / 5.0;
+        assert!((v[5] - exact).abs() < 1e-11, "{l}");
+        count += 1;
+    }
+    assert!(count >= 1024);
+    let svg = std::fs::read_to_string(dir.path().join("boundary_shear.svg")).unwrap();
+    assert!(svg.contains("arc length"));
+}
+
+#[test]
+fn section_file_and_study() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("tri.toml");
+    // equilateral triangle of side 1, given clockwise: reversed and reported
+    let h = 3f64.sqrt() / 2.0;
+    std::fs::write(&f, format!("name = \"tri\"\nvertices = [[0.0, 0.0], [0.5, {h}], [1.0, 0.0]]\n")).unwrap();
+    let (ok, out, err) = tecon(&["--section", f.to_str().unwrap(), "--study"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("clockwise"), "{out}");
+    assert!(out.contains("observed order"));
+    let v = json(&["--section", f.to_str().unwrap(), "--n", "512", "--study"]);
+    let j = v["torsional_rigidity"].as_f64().unwrap();
+    assert!((j / (3f64.sqrt() / 80.0) - 1.0).abs() < 1e-8, "J {j}");
+    let study = v["study"].as_array().unwrap();
+    assert_eq!(study.len(), 4);
+    let last = study[3]["observed_order"].as_f64().unwrap();
+    assert!(last > 4.0, "observed order {last}");
+}
+
+#[test]
+fn compressed_solver_reports_statistics() {
+    let v = json(&["--section", "ellipse:a=2,b=1", "--compress", "1e-9"]);
+    let c = &v["compression"];
+    assert!(c["entries_per_row"].as_f64().unwrap() < 256.0);
+    assert!(c["operator_error"].as_f64().unwrap() < 1e-7);
+    let j = v["torsional_rigidity"].as_f64().unwrap();
+    assert!((j / (8.0 * PI / 5.0) - 1.0).abs() < 1e-10);
+}
+
+#[test]
+fn bad_input_gives_one_line_errors() {
+    let cases: [(&[&str], &str); 9] = [
+        (&["--section", "circle:r=abc"], "`r`"),
+        (&["--section", "ellipse:a=1"], "missing field `b`"),
+        (&["--section", "rectangle:w=0,h=1"], "`w`"),
+        (&["--section", "hexagon:r=1"], "unknown section kind"),
+        (&["--section", "polygon:0,0;1,1;1,0;0,1"], "self-intersecting"),
+        (&["--section", "circle:r=1", "--n", "100"], "n = 100"),
+        (&["--section", "circle:r=1", "--wavelet", "sym4"], "--wavelet"),
+        (&["--section", "circle:r=1", "--grading", "0.5"], "grading"),
+        (&["--section", "circle:r=1", "--points", "1;2"], "--points"),
+    ];
+    for (args, needle) in cases {
+        let (ok, _, err) = tecon(args);
+        assert!(!ok, "{args:?} should fail");
+        assert!(err.contains(needle), "{args:?}: stderr `{err}` lacks `{needle}`");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: `{err}`");
+        assert!(!err.contains("panicked"));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("bad.toml");
+    std::fs::write(&f, "[[piece]]\nkind = \"arc\"\ncenter = [0, 0]\nstart_deg = 0\nend_deg = 360\n").unwrap();
+    let (ok, _, err) = tecon(&["--section", f.to_str().unwrap()]);
+    assert!(!ok && err.contains("piece[0].radius"), "{err}");
+}
