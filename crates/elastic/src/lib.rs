@@ -1,1 +1,42 @@
-//! placeholder
+//! `tecon-elastic`: plane elasticity on linear triangles with thermal strain
+//! and nonlinear interface (contact) elements.
+//!
+//! * [`ElasticModel`]: materials per region, supports (fixed components,
+//!   symmetry on edges of any orientation), pressure and body loads,
+//!   interfaces with a [`Joint`] law; plane strain (default), plane stress,
+//!   generalised plane strain.
+//! * [`StaticSolver`]: load increments from the committed state, Newton with
+//!   the consistent tangent (Cholesky when symmetric, LU when friction
+//!   slips), backtracking line search, status-aware convergence, ping-pong
+//!   guard, step cut-back, augmented-Lagrangian outer loop, free-body
+//!   detection that names the body.
+//! * Stress recovery: element and nodal stresses, polar components, von Mises.
+//! * [`analytical`]: closed-form solutions used for verification.
+//!
+//! # Glossary
+//! * u = (u_x, u_y): displacement; ε = (ε_xx, ε_yy, γ_xy), ε_zz; σ = (σ_xx, σ_yy, σ_xy), σ_zz.
+//! * E, ν, α: Young's modulus, Poisson's ratio, thermal expansion; λ, μ: Lamé constants.
+//! * ΔT = T − T_ref: temperature change of an element from its stress-free reference.
+//! * Plane strain free thermal strain in the plane: (1 + ν) α ΔT.
+//! * σ_rr, σ_θθ, σ_rθ: polar components about a centre; σ_θθ is the hoop stress.
+//! * ⟦u⟧ = [Δu_t, Δu_n]: interface jump; [τ, σ]: interface traction (σ > 0 tension).
+//! * R: residual f_ext − f_int; K_T: consistent tangent.
+
+pub mod analytical;
+mod error;
+mod joint;
+mod kernels;
+mod material;
+mod model;
+mod rotation;
+mod solver;
+
+pub use error::{ElasticError, IterationRecord};
+pub use joint::Joint;
+pub use kernels::{element_stress, gps_triangle, plane_triangle};
+pub use material::{Analysis, Material};
+pub use model::{Component, ElasticModel, ModelInterface};
+pub use solver::{
+    IncrementReport, InterfacePointResult, Loads, SolverOptions, StaticSolver, StressField,
+    nodal_displacement, polar, stresses, von_mises,
+};

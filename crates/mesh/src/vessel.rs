@@ -215,7 +215,7 @@ pub fn vessel_mesh(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<Mesh, 
                 core_id(i + 1, j + 1),
                 core_id(i, j + 1),
             );
-            push_quad(a, b, c, d, (i + j) % 2 == 1, 0, &nodes);
+            push_quad(a, b, c, d, j % 2 == 1, 0, &nodes);
         }
         for j in 0..nl {
             let (a, b, c, d) = (
@@ -225,7 +225,7 @@ pub fn vessel_mesh(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<Mesh, 
                 layer_id(i, j + 1),
             );
             let reg = if i < nw { 2 } else { 1 };
-            push_quad(a, b, c, d, (i + j) % 2 == 1, reg, &nodes);
+            push_quad(a, b, c, d, j % 2 == 1, reg, &nodes);
         }
     }
     let mut mesh = Mesh::new(

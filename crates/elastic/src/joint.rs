@@ -1,0 +1,52 @@
+//! A joint law chosen at run time, for models whose interfaces are set from
+//! input (case files).
+
+use tecon_contact::nalgebra::Vector2;
+use tecon_contact::{
+    Augmentation, ContactLaw, ElasticJoint, GhaboussiNormal, JointState, LawResponse, LinearJoint,
+    PaperJoint,
+};
+
+/// The interface laws an elastic model can use.
+#[derive(Debug, Clone)]
+pub enum Joint {
+    /// Goodman linear joint (bilateral springs).
+    Linear(LinearJoint),
+    /// Ghaboussi normal law with elastic shear (no slip limit: bonded in shear).
+    Sticking(ElasticJoint<GhaboussiNormal>),
+    /// The paper's joint: Ghaboussi normal law + Mohr–Coulomb friction.
+    Frictional(PaperJoint),
+}
+
+impl ContactLaw for Joint {
+    type State = JointState;
+
+    #[inline]
+    fn evaluate(&self, jump: &Vector2<f64>, committed: &JointState) -> LawResponse<JointState> {
+        match self {
+            Joint::Linear(l) => {
+                let r = l.evaluate(jump, &());
+                LawResponse {
+                    traction: r.traction,
+                    tangent: r.tangent,
+                    state: *committed,
+                    status: r.status,
+                    slip: r.slip,
+                }
+            }
+            Joint::Sticking(l) => l.evaluate(jump, committed),
+            Joint::Frictional(l) => l.evaluate(jump, committed),
+        }
+    }
+
+    fn augment(&self, jump: &Vector2<f64>, state: &JointState) -> Augmentation<JointState> {
+        match self {
+            Joint::Linear(_) => Augmentation {
+                state: *state,
+                multiplier_change: 0.0,
+            },
+            Joint::Sticking(l) => l.augment(jump, state),
+            Joint::Frictional(l) => l.augment(jump, state),
+        }
+    }
+}

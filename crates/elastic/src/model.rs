@@ -1,0 +1,260 @@
+//! The elastic model: mesh, materials per region, supports, loads and
+//! interfaces. Built with checked builder calls that name what is wrong.
+
+use tecon_contact::nalgebra::Point2;
+use tecon_contact::{InterfaceElement, InterfaceQuadrature};
+use tecon_fem::DofMap;
+use tecon_mesh::Mesh;
+
+use crate::error::ElasticError;
+use crate::joint::Joint;
+use crate::material::{Analysis, Material};
+
+/// Displacement component.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Component {
+    /// u_x.
+    X,
+    /// u_y.
+    Y,
+}
+
+/// One interface of the model: its 4-node elements and joint law.
+#[derive(Debug, Clone)]
+pub struct ModelInterface {
+    /// Interface name in the mesh.
+    pub name: String,
+    /// Joint law.
+    pub law: Joint,
+    /// Node ids [1, 2, 3, 4] of each element.
+    pub nodes: Vec<[usize; 4]>,
+    /// Element kernels (geometry and quadrature).
+    pub elements: Vec<InterfaceElement>,
+}
+
+/// A plane elastic model on a mesh.
+#[derive(Debug, Clone)]
+pub struct ElasticModel<'m> {
+    pub(crate) mesh: &'m Mesh,
+    pub(crate) analysis: Analysis,
+    pub(crate) materials: Vec<Option<Material>>,
+    pub(crate) fixed: Vec<(usize, f64)>,
+    pub(crate) rotated: Vec<(usize, [f64; 2])>,
+    pub(crate) pressure: Vec<([usize; 2], f64)>,
+    pub(crate) body_force: Vec<[f64; 2]>,
+    pub(crate) interfaces: Vec<ModelInterface>,
+    pub(crate) quadrature: InterfaceQuadrature,
+    pub(crate) remove_free_translations: bool,
+}
+
+/// Tolerance on |n_x| or |n_y| ≈ 1 for treating a symmetry edge as axis-aligned.
+const AXIS_TOLERANCE: f64 = 1e-9;
+
+impl<'m> ElasticModel<'m> {
+    /// An empty model (no materials, supports or loads) of `analysis` type on `mesh`.
+    pub fn new(mesh: &'m Mesh, analysis: Analysis) -> Self {
+        ElasticModel {
+            mesh,
+            analysis,
+            materials: vec![None; mesh.region_names().len()],
+            fixed: Vec::new(),
+            rotated: Vec::new(),
+            pressure: Vec::new(),
+            body_force: vec![[0.0; 2]; mesh.region_names().len()],
+            interfaces: Vec::new(),
+            quadrature: InterfaceQuadrature::default(),
+            remove_free_translations: false,
+        }
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &'m Mesh {
+        self.mesh
+    }
+
+    /// The analysis type.
+    pub fn analysis(&self) -> Analysis {
+        self.analysis
+    }
+
+    /// The dof numbering (2 per node; generalised plane strain adds ε_zz last).
+    pub fn dofmap(&self) -> DofMap {
+        DofMap::new(self.mesh.n_nodes(), 2)
+    }
+
+    /// Total number of unknowns.
+    pub fn n_dofs(&self) -> usize {
+        2 * self.mesh.n_nodes() + usize::from(self.analysis == Analysis::GeneralisedPlaneStrain)
+    }
+
+    /// Index of the ε_zz unknown (generalised plane strain).
+    pub fn eps_zz_dof(&self) -> Option<usize> {
+        (self.analysis == Analysis::GeneralisedPlaneStrain).then(|| 2 * self.mesh.n_nodes())
+    }
+
+    /// Material of region `region`.
+    pub fn material(mut self, region: &str, m: Material) -> Result<Self, ElasticError> {
+        let r = self.mesh.region_index(region)?;
+        m.check().map_err(|message| ElasticError::Material {
+            region: region.into(),
+            message,
+        })?;
+        self.materials[r] = Some(m);
+        Ok(self)
+    }
+
+    /// The same material for every region.
+    pub fn material_everywhere(mut self, m: Material) -> Result<Self, ElasticError> {
+        for name in self.mesh.region_names().to_vec() {
+            self = self.material(&name, m)?;
+        }
+        Ok(self)
+    }
+
+    /// Material of each triangle (errors name a region without one).
+    pub fn element_materials(&self) -> Result<Vec<Material>, ElasticError> {
+        let names = self.mesh.region_names();
+        self.mesh
+            .element_regions()
+            .iter()
+            .map(|&r| {
+                self.materials[r].ok_or_else(|| ElasticError::MissingMaterial(names[r].clone()))
+            })
+            .collect()
+    }
+
+    fn set_nodes(&self, set: &str) -> Result<Vec<usize>, ElasticError> {
+        match self.mesh.node_set(set) {
+            Ok(n) => Ok(n.to_vec()),
+            Err(_) => Ok(self.mesh.edge_set_nodes(set)?),
+        }
+    }
+
+    /// Prescribes displacement `value` (m, at load factor 1) of `component`
+    /// on the nodes of a node set or edge set.
+    pub fn fix(
+        mut self,
+        set: &str,
+        component: Component,
+        value: f64,
+    ) -> Result<Self, ElasticError> {
+        if !value.is_finite() {
+            return Err(ElasticError::Input {
+                what: format!("fixed displacement on '{set}'"),
+                message: format!("value {value} is not finite"),
+            });
+        }
+        let c = match component {
+            Component::X => 0,
+            Component::Y => 1,
+        };
+        for n in self.set_nodes(set)? {
+            self.fixed.push((2 * n + c, value));
+        }
+        Ok(self)
+    }
+
+    /// Symmetry on an edge set of any orientation: zero displacement normal
+    /// to the edges. Axis-aligned edges constrain u_x or u_y directly; other
+    /// nodes get a local (n, t) frame in which u_n = 0.
+    pub fn symmetry(mut self, edge_set: &str) -> Result<Self, ElasticError> {
+        let x = self.mesh.nodes();
+        let mut normals: std::collections::BTreeMap<usize, [f64; 2]> = Default::default();
+        for &[a, b] in self.mesh.edge_set(edge_set)? {
+            let (dx, dy) = (x[b][0] - x[a][0], x[b][1] - x[a][1]);
+            // outward normal of a CCW boundary edge: right normal of a→b
+            let n = [dy, -dx];
+            for v in [a, b] {
+                let e = normals.entry(v).or_insert([0.0; 2]);
+                e[0] += n[0];
+                e[1] += n[1];
+            }
+        }
+        for (node, n) in normals {
+            let len = (n[0] * n[0] + n[1] * n[1]).sqrt();
+            if len == 0.0 {
+                return Err(ElasticError::Input {
+                    what: format!("symmetry edge set '{edge_set}'"),
+                    message: format!("node {node} has no defined normal"),
+                });
+            }
+            let n = [n[0] / len, n[1] / len];
+            if (n[0].abs() - 1.0).abs() < AXIS_TOLERANCE {
+                self.fixed.push((2 * node, 0.0));
+            } else if (n[1].abs() - 1.0).abs() < AXIS_TOLERANCE {
+                self.fixed.push((2 * node + 1, 0.0));
+            } else {
+                self.rotated.push((node, n));
+            }
+        }
+        Ok(self)
+    }
+
+    /// Uniform pressure `p` (Pa, at load factor 1) on an edge set, pushing
+    /// against the outward normal.
+    pub fn pressure(mut self, edge_set: &str, p: f64) -> Result<Self, ElasticError> {
+        if !p.is_finite() {
+            return Err(ElasticError::Input {
+                what: format!("pressure on '{edge_set}'"),
+                message: format!("value {p} is not finite"),
+            });
+        }
+        for &e in self.mesh.edge_set(edge_set)? {
+            self.pressure.push((e, p));
+        }
+        Ok(self)
+    }
+
+    /// Body force per unit volume (N/m³) in a region.
+    pub fn body_force(mut self, region: &str, f: [f64; 2]) -> Result<Self, ElasticError> {
+        let r = self.mesh.region_index(region)?;
+        self.body_force[r] = f;
+        Ok(self)
+    }
+
+    /// Interface integration rule (nodal by default); set it before adding interfaces.
+    pub fn interface_quadrature(mut self, q: InterfaceQuadrature) -> Self {
+        self.quadrature = q;
+        self
+    }
+
+    /// Joins the two faces of the mesh interface `name` with `law`.
+    pub fn interface(mut self, name: &str, law: Joint) -> Result<Self, ElasticError> {
+        let nodes = self.mesh.interface(name)?.elements.clone();
+        let x = self.mesh.nodes();
+        let mut elements = Vec::with_capacity(nodes.len());
+        for (k, el) in nodes.iter().enumerate() {
+            let p = el.map(|v| Point2::new(x[v][0], x[v][1]));
+            let e = InterfaceElement::with_quadrature(&p, self.quadrature).map_err(|e| {
+                ElasticError::Interface {
+                    interface: name.into(),
+                    element: k,
+                    message: e.to_string(),
+                }
+            })?;
+            elements.push(e);
+        }
+        self.interfaces.push(ModelInterface {
+            name: name.into(),
+            law,
+            nodes,
+            elements,
+        });
+        Ok(self)
+    }
+
+    /// Lets the solver remove rigid translations that the supports leave
+    /// free by fixing one displacement component of one node per free mode
+    /// (a minimal constraint: its reaction vanishes when the loads are
+    /// self-equilibrated, so the stresses do not change). Off by default:
+    /// then a free body is an error that names it.
+    pub fn remove_free_translations(mut self, yes: bool) -> Self {
+        self.remove_free_translations = yes;
+        self
+    }
+
+    /// The interfaces of the model.
+    pub fn interfaces(&self) -> &[ModelInterface] {
+        &self.interfaces
+    }
+}
