@@ -33,17 +33,17 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn time_it(reps: usize, mut f: impl FnMut()) -> f64 {
-    f();
-    median(
-        (0..reps)
-            .map(|_| {
-                let t = Instant::now();
-                f();
-                t.elapsed().as_secs_f64()
-            })
-            .collect(),
-    )
+fn minimum(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+/// Seconds per call of `f`, averaged over `inner` calls.
+fn time_once(inner: usize, f: &mut impl FnMut()) -> f64 {
+    let t = Instant::now();
+    for _ in 0..inner {
+        f();
+    }
+    t.elapsed().as_secs_f64() / inner as f64
 }
 
 fn main() {
@@ -64,10 +64,7 @@ fn main() {
         }
     }
     let n = mesh.n_nodes();
-    println!(
-        "thermal bench: {n} nodes, {} triangles",
-        mesh.n_triangles()
-    );
+    println!("thermal bench: {n} nodes, {} triangles", mesh.n_triangles());
 
     // The whole run: 1000 steps of one Δt, output at the end.
     let schedule = TimeSchedule::uniform(DT, 1000).expect("schedule");
@@ -89,7 +86,6 @@ fn main() {
     let t = Instant::now();
     stepper.step(DT, 1.0).expect("first step");
     let first = t.elapsed().as_secs_f64();
-    let step = time_it(30, || stepper.step(DT, 1.0).expect("step"));
 
     // The same factorisation, built by hand.
     let mut a = system.assembler().new_matrix();
@@ -109,26 +105,41 @@ fn main() {
     let factorise = t.elapsed().as_secs_f64();
     let b = stepper.temperature().to_vec();
     let mut x = b.clone();
-    let solve = time_it(30, || {
-        x.copy_from_slice(&b);
-        solver.solve(&mut x).expect("solve");
-    });
     let k = system.conductivity_matrix();
     let mut y = vec![0.0; n];
-    let matvec = time_it(30, || k.mul_vec(&b, &mut y));
+    // Interleaved rounds (the machine is shared: the minimum over rounds is
+    // the least disturbed estimate, the median is printed beside it).
+    let (mut ts, mut tv, mut tm) = (Vec::new(), Vec::new(), Vec::new());
+    let mut step_f = || stepper.step(DT, 1.0).expect("step");
+    let mut solve_f = || {
+        x.copy_from_slice(&b);
+        solver.solve(&mut x).expect("solve");
+    };
+    let mut matvec_f = || k.mul_vec(&b, &mut y);
+    for _ in 0..20 {
+        ts.push(time_once(5, &mut step_f));
+        tv.push(time_once(5, &mut solve_f));
+        tm.push(time_once(5, &mut matvec_f));
+    }
     println!(
         "first step (with factorisation) {:.2} ms; bare factorisation {:.2} ms; factor nnz {}",
         first * 1e3,
         factorise * 1e3,
         solver.factor_nnz()
     );
-    println!(
-        "median: step {:.3} ms, solve {:.3} ms, mat-vec {:.3} ms; step / (solve + mat-vec) = {:.3}",
-        step * 1e3,
-        solve * 1e3,
-        matvec * 1e3,
-        step / (solve + matvec)
-    );
+    for (label, f) in [
+        ("minimum", minimum as fn(&[f64]) -> f64),
+        ("median", |v: &[f64]| median(v.to_vec())),
+    ] {
+        let (s, v, m) = (f(&ts), f(&tv), f(&tm));
+        println!(
+            "{label:>7}: step {:.3} ms, solve {:.3} ms, mat-vec {:.3} ms; step / (solve + mat-vec) = {:.3}",
+            s * 1e3,
+            v * 1e3,
+            m * 1e3,
+            s / (v + m)
+        );
+    }
     println!(
         "1000-step run per step (incl. assembly and factorisation): {:.3} ms",
         total * 1e3 / 1000.0
