@@ -82,7 +82,7 @@ pub use error::ThermalError;
 pub use initial::{BorderRule, InitialTemperature};
 pub use material::{CapacityKind, Material};
 pub use model::{ThermalModel, TransientSummary, run_transient};
-pub use output::{HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
+pub use output::{BodyBalance, HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
 pub use schedule::{ThetaScheme, TimeSchedule};
 pub use stepper::{DEFAULT_POOL, StepperStats, ThetaStepper};
 pub use system::ThermalSystem;

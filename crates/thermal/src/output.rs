@@ -46,6 +46,40 @@ impl HeatBalance {
     }
 }
 
+/// Heat balance of one body (a connected part of the mesh), including the
+/// heat it receives through interfaces. Same units and θ-consistency as
+/// [`HeatBalance`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyBalance {
+    /// Body name (its regions joined by `+`).
+    pub body: String,
+    /// Change of heat stored in the body.
+    pub stored_change: f64,
+    /// Heat gained through its convective edges.
+    pub convection_in: f64,
+    /// Heat gained through its prescribed-flux edges.
+    pub flux_in: f64,
+    /// Heat supplied at its prescribed-temperature nodes.
+    pub prescribed_in: f64,
+    /// Heat gained across interfaces (from the other bodies).
+    pub interface_in: f64,
+    /// `stored_change − (convection_in + flux_in + prescribed_in + interface_in)`.
+    pub residual: f64,
+    /// Gross heat moved in or out of the body (scale of the relative residual).
+    pub scale: f64,
+}
+
+impl BodyBalance {
+    /// `|residual| / scale` (`|residual|` when nothing moved).
+    pub fn relative_residual(&self) -> f64 {
+        if self.scale == 0.0 {
+            self.residual.abs()
+        } else {
+            self.residual.abs() / self.scale
+        }
+    }
+}
+
 /// Heat exchange of one thermal interface element.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InterfaceFlux {
@@ -89,4 +123,6 @@ pub struct Snapshot {
     pub interfaces: Vec<InterfaceResult>,
     /// Heat balance since the start (or steady rates).
     pub balance: HeatBalance,
+    /// Heat balance of each body, in the mesh's body order.
+    pub bodies: Vec<BodyBalance>,
 }

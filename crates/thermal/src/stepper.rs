@@ -24,7 +24,7 @@ use tecon_fem::{CholeskySolver, CsrMatrix};
 
 use crate::error::ThermalError;
 use crate::output::{HeatBalance, Snapshot};
-use crate::system::ThermalSystem;
+use crate::system::{BodyFlows, ThermalSystem};
 
 /// Default number of factorisations kept by a stepper.
 pub const DEFAULT_POOL: usize = 3;
@@ -70,6 +70,8 @@ pub struct ThetaStepper<'s, 'm> {
     zero: Vec<f64>,
     saved: Vec<f64>,
     balance: HeatBalance,
+    flows: BodyFlows,
+    t_theta: Vec<f64>,
     shift: f64,
     stats: StepperStats,
     tick: u64,
@@ -113,6 +115,8 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             zero: vec![0.0; n],
             saved: vec![0.0; system.constrained.len()],
             balance: HeatBalance::default(),
+            flows: BodyFlows::new(system.mesh.bodies().len()),
+            t_theta: Vec::new(),
             shift,
             stats: StepperStats::default(),
             tick: 0,
@@ -164,6 +168,8 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             self.stats.steps,
             self.temperature.clone(),
             self.balance(),
+            &self.flows,
+            Some(&self.initial),
         )
     }
 
@@ -217,6 +223,26 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
         Ok(slot)
     }
 
+    /// Adds the step's convective, flux and interface inflows per body,
+    /// evaluated at `T_θ = Tⁿ + θΔT` (ΔT in `self.rhs`).
+    fn per_body_flows(&mut self, dt: f64, theta: f64) {
+        let sys = self.system;
+        if sys.interface_elements.nodes.is_empty() && sys.mesh.bodies().len() == 1 {
+            // One body: its flows are the global ones (added in `step`).
+            return;
+        }
+        // A dense T_θ (one O(n) pass, only for meshes with several bodies
+        // or interfaces).
+        self.t_theta.clear();
+        self.t_theta.extend(
+            self.temperature
+                .iter()
+                .zip(&self.rhs)
+                .map(|(t, d)| t + theta * d),
+        );
+        sys.add_body_flows(&mut self.flows, &self.t_theta, dt);
+    }
+
     /// Takes one step of size `dt` with parameter `theta` ∈ [1/2, 1].
     pub fn step(&mut self, dt: f64, theta: f64) -> Result<(), ThermalError> {
         if !(dt > 0.0 && dt.is_finite()) || self.time + dt <= self.time {
@@ -257,6 +283,8 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             self.rhs[row.dof] = 0.0;
         }
         self.pool[slot].solver.solve(&mut self.rhs)?;
+        // Per-body flows: convection, fluxes and interfaces at T_θ.
+        self.per_body_flows(dt, theta);
         let dtemp = &self.rhs;
         // Heat balance of the step, consistent with the θ-method.
         let (mut conv_in, mut gross) = (0.0, 0.0);
@@ -266,6 +294,7 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             gross += g.abs();
         }
         gross += sys.flux_gross();
+        let boundary_gross = gross;
         let mut prescribed = 0.0;
         let inv = 1.0 / dt;
         for (row, &s) in sys.constrained.iter().zip(&self.saved) {
@@ -276,6 +305,9 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             // Row c of C ΔT/Δt + K(Tⁿ + θΔT) − F; `s` holds F − K Tⁿ.
             prescribed += r - s;
             gross += (r - s).abs();
+            let b = sys.mesh.node_bodies()[row.dof];
+            self.flows.prescribed[b] += dt * (r - s);
+            self.flows.gross[b] += dt * (r - s).abs();
         }
         let (mut stored, mut content) = (0.0, 0.0);
         for ((t, d), w) in self
@@ -290,6 +322,11 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
         }
         self.shift = content / sys.total_capacity;
         self.balance.stored_change += stored;
+        if sys.interface_elements.nodes.is_empty() && sys.mesh.bodies().len() == 1 {
+            self.flows.convection[0] += dt * conv_in;
+            self.flows.flux[0] += dt * sys.flux_load;
+            self.flows.gross[0] += dt * boundary_gross;
+        }
         self.balance.convection_in += dt * conv_in;
         self.balance.scale += dt * gross;
         self.balance.flux_in += dt * sys.flux_load;

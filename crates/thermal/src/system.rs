@@ -16,7 +16,7 @@ use crate::error::ThermalError;
 use crate::kernels::{
     CapacityElements, ConductionElements, ConvectionEdges, InterfaceElements, triangle_geometry,
 };
-use crate::output::{HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
+use crate::output::{BodyBalance, HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
 use crate::stepper::ThetaStepper;
 
 /// One row of the unconstrained C and K at a prescribed-temperature dof
@@ -27,6 +27,28 @@ pub(crate) struct ConstrainedRow {
     pub cols: Vec<usize>,
     pub c: Vec<f64>,
     pub k: Vec<f64>,
+}
+
+/// Flows into each body accumulated by a run (or rates of a steady state).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BodyFlows {
+    pub convection: Vec<f64>,
+    pub flux: Vec<f64>,
+    pub prescribed: Vec<f64>,
+    pub interface: Vec<f64>,
+    pub gross: Vec<f64>,
+}
+
+impl BodyFlows {
+    pub fn new(n_bodies: usize) -> Self {
+        BodyFlows {
+            convection: vec![0.0; n_bodies],
+            flux: vec![0.0; n_bodies],
+            prescribed: vec![0.0; n_bodies],
+            interface: vec![0.0; n_bodies],
+            gross: vec![0.0; n_bodies],
+        }
+    }
 }
 
 /// Range of one named interface inside the flattened interface elements.
@@ -316,6 +338,13 @@ impl<'m> ThermalSystem<'m> {
             .map(|r| kt[r.dof] - self.load[r.dof])
             .collect();
         let (convection_in, conv_gross) = self.convection_in_rate(&t);
+        let mut flows = BodyFlows::new(self.mesh.bodies().len());
+        self.add_body_flows(&mut flows, &t, 1.0);
+        for (row, r) in self.constrained.iter().zip(&reactions) {
+            let b = self.mesh.node_bodies()[row.dof];
+            flows.prescribed[b] += r;
+            flows.gross[b] += r.abs();
+        }
         let balance = HeatBalance {
             stored_change: 0.0,
             convection_in,
@@ -325,7 +354,7 @@ impl<'m> ThermalSystem<'m> {
             scale: conv_gross + self.flux_gross() + reactions.iter().map(|r| r.abs()).sum::<f64>(),
         }
         .close();
-        Ok(self.snapshot(0.0, 0, t, balance))
+        Ok(self.snapshot(0.0, 0, t, balance, &flows, None))
     }
 
     /// Convective heat gain rate `−Σ_e ∫ h (T − T∞) ds` for nodal field `t`,
@@ -338,6 +367,69 @@ impl<'m> ThermalSystem<'m> {
             gross += g.abs();
         }
         (net, gross)
+    }
+
+    /// Adds `scale ×` (convective, flux and interface inflow rates of field
+    /// `t`) to the per-body flows (prescribed-temperature reactions are
+    /// added by the caller).
+    pub(crate) fn add_body_flows(&self, flows: &mut BodyFlows, t: &[f64], scale: f64) {
+        let nb = self.mesh.node_bodies();
+        for &(i, w, f) in &self.convective_weights {
+            let g = scale * (f - w * t[i]);
+            flows.convection[nb[i]] += g;
+            flows.gross[nb[i]] += g.abs();
+        }
+        for &(i, f) in &self.flux_nodes {
+            flows.flux[nb[i]] += scale * f;
+            flows.gross[nb[i]] += (scale * f).abs();
+        }
+        let ie = &self.interface_elements;
+        for e in 0..ie.nodes.len() {
+            let n = ie.nodes[e];
+            let q = scale * interface_flux(&ie.geometry[e], ie.rule[e], ie.h_c[e], n, t).heat_rate;
+            // q flows from the top body (nodes 3, 4) into the bottom body (1, 2).
+            flows.interface[nb[n[0]]] += q;
+            flows.interface[nb[n[3]]] -= q;
+            flows.gross[nb[n[0]]] += q.abs();
+            flows.gross[nb[n[3]]] += q.abs();
+        }
+    }
+
+    /// Per-body balances from the accumulated flows and the stored change
+    /// `Σ_{i ∈ body} w_i (T_i − T_i⁰)` (`t0 = None` for a steady state).
+    pub(crate) fn body_balances(
+        &self,
+        t: &[f64],
+        t0: Option<&[f64]>,
+        flows: &BodyFlows,
+    ) -> Vec<BodyBalance> {
+        let w = &self.capacity_weights;
+        self.mesh
+            .bodies()
+            .iter()
+            .enumerate()
+            .map(|(b, body)| {
+                let (stored, gross_stored) = match t0 {
+                    Some(t0) => body.nodes.iter().fold((0.0, 0.0), |(s, g), &i| {
+                        let d = w[i] * (t[i] - t0[i]);
+                        (s + d, g + d.abs())
+                    }),
+                    None => (0.0, 0.0),
+                };
+                let inflow =
+                    flows.convection[b] + flows.flux[b] + flows.prescribed[b] + flows.interface[b];
+                BodyBalance {
+                    body: body.name.clone(),
+                    stored_change: stored,
+                    convection_in: flows.convection[b],
+                    flux_in: flows.flux[b],
+                    prescribed_in: flows.prescribed[b],
+                    interface_in: flows.interface[b],
+                    residual: stored - inflow,
+                    scale: gross_stored.max(flows.gross[b]),
+                }
+            })
+            .collect()
     }
 
     /// `Σ_i |prescribed-flux load at node i|`.
@@ -354,8 +446,17 @@ impl<'m> ThermalSystem<'m> {
             .collect()
     }
 
-    /// Builds the output of nodal field `t` at `time`.
-    pub fn snapshot(&self, time: f64, step: usize, t: Vec<f64>, balance: HeatBalance) -> Snapshot {
+    /// Builds the output of nodal field `t` at `time`; `t0` is the initial
+    /// field of a transient run (`None` for a steady state).
+    pub(crate) fn snapshot(
+        &self,
+        time: f64,
+        step: usize,
+        t: Vec<f64>,
+        balance: HeatBalance,
+        flows: &BodyFlows,
+        t0: Option<&[f64]>,
+    ) -> Snapshot {
         let nodes = self.mesh.nodes();
         let tris = self.mesh.triangles();
         let (gradient, flux): (Vec<[f64; 2]>, Vec<[f64; 2]>) = tris
@@ -391,9 +492,11 @@ impl<'m> ThermalSystem<'m> {
                 }
             })
             .collect();
+        let bodies = self.body_balances(&t, t0, flows);
         Snapshot {
             time,
             step,
+            bodies,
             element_temperature: self.element_means(&t),
             temperature: t,
             gradient,

@@ -246,6 +246,22 @@ fn rings_errors<L: ConductanceLaw + 'static>(
         "steady balance {:e}",
         snap.balance.relative_residual()
     );
+    // Steady per-body balances (rates): ring a passes on through the
+    // interface what it receives at r_a; ring b convects it away.
+    for b in &snap.bodies {
+        assert!(
+            b.relative_residual() < 1e-10,
+            "body {} residual {:e}",
+            b.body,
+            b.relative_residual()
+        );
+    }
+    let (a, b) = (&snap.bodies[0], &snap.bodies[1]);
+    assert_eq!((a.body.as_str(), b.body.as_str()), ("a", "b"));
+    // Bottom = ring a receives q (top → bottom) = −Q.
+    assert_relative_eq!(a.interface_in, itf.heat_rate, max_relative = 1e-12);
+    assert_relative_eq!(b.interface_in, -itf.heat_rate, max_relative = 1e-12);
+    assert_relative_eq!(b.convection_in, itf.heat_rate, max_relative = 1e-9);
     (err_t, err_jump, err_q)
 }
 
@@ -572,6 +588,37 @@ fn vessel_weld_cooling_closes_the_heat_balance() {
             s.balance.stored_change, s.balance.convection_in, s.interfaces[0].heat_rate
         );
         assert!(r < 1e-10, "balance residual {r:e} at t = {t}");
+        // Per body: stored change = boundary + interface inflow; what the
+        // core gains through the interface the layer loses.
+        assert_eq!(s.bodies.len(), 2);
+        for b in &s.bodies {
+            println!(
+                "    body {:10}: stored {:.6e}, convected {:.6e}, through interface {:.6e}, residual {:.1e}",
+                b.body,
+                b.stored_change,
+                b.convection_in,
+                b.interface_in,
+                b.relative_residual()
+            );
+            assert!(
+                b.relative_residual() < 1e-10,
+                "body {} residual {:e}",
+                b.body,
+                b.relative_residual()
+            );
+        }
+        let (core, layer) = (&s.bodies[0], &s.bodies[1]);
+        assert_eq!(
+            (core.body.as_str(), layer.body.as_str()),
+            ("core", "layer+weld")
+        );
+        assert!(
+            (core.interface_in + layer.interface_in).abs()
+                <= 1e-12 * core.interface_in.abs().max(1.0)
+        );
+        if t > 0.0 {
+            assert!(core.interface_in > 0.0, "the core is heated by the weld");
+        }
         assert!(tmax <= prev_max, "the hottest point must cool");
         prev_max = tmax;
     }
@@ -657,6 +704,7 @@ fn crank_nicolson_start_up_removes_the_oscillation_of_a_discontinuity() {
         for s in &snaps {
             let r = s.balance.relative_residual();
             assert!(r < 1e-10, "balance residual {r:e}");
+            assert!(s.bodies[0].relative_residual() < 1e-10);
             // Adiabatic: the content does not change.
             assert!(s.balance.stored_change.abs() < 1e-12);
             for w in s.temperature[..=100].windows(2) {
