@@ -162,3 +162,84 @@ fn coupling_output_reference_and_element_temperatures() {
         assert!(reg.iter().all(|&t| t == 500.0 || t == 20.0));
     }
 }
+
+/// Reference: the steady solution of the same model; conservation of
+/// energy with heat supplied through prescribed temperatures.
+/// Goal: a transient run with a prescribed inner temperature, an interface
+/// and outer convection closes its balance (global and per body) at every
+/// output with the reactions accounted for, and tends to the steady state.
+///
+/// ```text
+///   ring a (T = 100 at r = 1) ║ h_c = 2 ║ ring b, convection h = 5 to 0 at r = 2
+/// ```
+#[test]
+fn transient_with_prescribed_temperature_tends_to_the_steady_state() {
+    use tecon_mesh::{RingLayer, layered_annulus};
+    let mesh = layered_annulus(
+        &[
+            RingLayer {
+                name: "a".into(),
+                r_in: 1.0,
+                r_out: 1.5,
+                rows: 4,
+            },
+            RingLayer {
+                name: "b".into(),
+                r_in: 1.5,
+                r_out: 2.0,
+                rows: 4,
+            },
+        ],
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+        16,
+    )
+    .unwrap();
+    let mut m = ThermalModel::new(&mesh);
+    m.set_material("a", Material::new(1.0, 1.0, 1.0))
+        .unwrap()
+        .set_material("b", Material::new(2.0, 1.0, 2.0))
+        .unwrap()
+        .add_edge_bc("inner", EdgeBc::temperature(100.0))
+        .unwrap()
+        .add_edge_bc("outer", EdgeBc::convection(5.0, 0.0))
+        .unwrap()
+        .set_interface_conductance("a_b", 2.0)
+        .unwrap()
+        .set_initial_default(0.0)
+        .unwrap();
+    let steady = m.solve_steady().unwrap();
+    let sch = TimeSchedule::geometric(1e-3, 2.0, 4, 200.0).unwrap();
+    let snaps = m
+        .solve_transient_collect(
+            &sch,
+            ThetaScheme::crank_nicolson(),
+            &[0.01, 0.5, 5.0, 200.0],
+        )
+        .unwrap();
+    for s in &snaps {
+        let b = &s.balance;
+        println!(
+            "t = {:6.2}: stored {:.6e}, from T̄ {:.6e}, convected {:.6e}, residual {:.1e}",
+            s.time,
+            b.stored_change,
+            b.prescribed_in,
+            b.convection_in,
+            b.relative_residual()
+        );
+        assert!(b.relative_residual() < 1e-10);
+        assert!(b.prescribed_in > 0.0);
+        for body in &s.bodies {
+            assert!(body.relative_residual() < 1e-10, "{body:?}");
+        }
+    }
+    let last = snaps.last().unwrap();
+    let err = last
+        .temperature
+        .iter()
+        .zip(&steady.temperature)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!("distance to the steady state at t = 200: {err:.2e}");
+    assert!(err < 1e-6 * 100.0);
+}
