@@ -26,6 +26,10 @@ use crate::error::ThermalError;
 use crate::output::{HeatBalance, Snapshot};
 use crate::system::{BodyFlows, ThermalSystem};
 
+/// Nodes per chunk of the parallel update (fixed: the summation order does
+/// not depend on the thread count).
+const UPDATE_CHUNK: usize = 16384;
+
 /// Default number of factorisations kept by a stepper.
 pub const DEFAULT_POOL: usize = 3;
 
@@ -309,17 +313,26 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             self.flows.prescribed[b] += dt * (r - s);
             self.flows.gross[b] += dt * (r - s).abs();
         }
-        let (mut stored, mut content) = (0.0, 0.0);
-        for ((t, d), w) in self
+        // Tⁿ⁺¹ = Tⁿ + ΔT with the stored change w·ΔT and the content w·Tⁿ⁺¹,
+        // summed per fixed chunk and then in chunk order: parallel, and
+        // bitwise the same for any thread count.
+        let (stored, content) = self
             .temperature
-            .iter_mut()
-            .zip(dtemp)
-            .zip(&sys.capacity_weights)
-        {
-            *t += d;
-            stored += w * d;
-            content += w * *t;
-        }
+            .par_chunks_mut(UPDATE_CHUNK)
+            .zip(dtemp.par_chunks(UPDATE_CHUNK))
+            .zip(sys.capacity_weights.par_chunks(UPDATE_CHUNK))
+            .map(|((t, d), w)| {
+                let (mut s, mut c) = (0.0, 0.0);
+                for ((t, d), w) in t.iter_mut().zip(d).zip(w) {
+                    *t += d;
+                    s += w * d;
+                    c += w * *t;
+                }
+                (s, c)
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .fold((0.0, 0.0), |(s, c), (a, b)| (s + a, c + b));
         self.shift = content / sys.total_capacity;
         self.balance.stored_change += stored;
         if sys.interface_elements.nodes.is_empty() && sys.mesh.bodies().len() == 1 {
