@@ -42,7 +42,7 @@ impl ConstantConductance {
         if !(h_c > 0.0 && h_c.is_finite()) {
             return Err(ThermalError::InvalidConductance {
                 interface: "(constant law)".into(),
-                element: usize::MAX,
+                element: None,
                 requirement: "positive and finite",
                 value: h_c,
             });

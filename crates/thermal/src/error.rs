@@ -62,13 +62,14 @@ pub enum ThermalError {
     },
     /// An interface conductance is negative, zero (for a constant law) or not finite.
     #[error(
-        "interface '{interface}', element {element}: conductance h_c must be {requirement}, got {value}"
+        "interface '{interface}'{}: conductance h_c must be {requirement}, got {value}",
+        element.map(|e| format!(", element {e}")).unwrap_or_default()
     )]
     InvalidConductance {
-        /// Interface name.
+        /// Interface name ("(constant law)" when the law itself is rejected).
         interface: String,
-        /// Element index within the interface (`usize::MAX` for the law itself).
-        element: usize,
+        /// Element index within the interface (`None` for the law itself).
+        element: Option<usize>,
         /// What is required.
         requirement: &'static str,
         /// The offending value.
@@ -143,6 +144,14 @@ pub enum ThermalError {
         description: String,
         /// Names of the bodies taking part.
         bodies: Vec<String>,
+    },
+    /// The time schedule asks for more steps than [`crate::MAX_STEPS`].
+    #[error("the time schedule has {steps} steps (more than the limit {limit}); use larger steps")]
+    TooManySteps {
+        /// Steps requested.
+        steps: f64,
+        /// The limit.
+        limit: usize,
     },
     /// The time schedule does not advance time.
     #[error("the time schedule does not advance: {reason}")]

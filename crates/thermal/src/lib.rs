@@ -83,7 +83,7 @@ pub use initial::{BorderRule, InitialTemperature};
 pub use material::{CapacityKind, Material};
 pub use model::{ThermalModel, TransientSummary, run_transient};
 pub use output::{BodyBalance, HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
-pub use schedule::{ThetaScheme, TimeSchedule};
+pub use schedule::{MAX_STEPS, ThetaScheme, TimeSchedule};
 pub use stepper::{DEFAULT_POOL, StepperStats, ThetaStepper};
 pub use system::ThermalSystem;
 pub use tecon_fem::interface::InterfaceQuadrature;

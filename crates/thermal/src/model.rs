@@ -193,7 +193,7 @@ impl<'m> ThermalModel<'m> {
         self.check_interface(name)?;
         let law = ConstantConductance::new(h_c).map_err(|_| ThermalError::InvalidConductance {
             interface: name.into(),
-            element: usize::MAX,
+            element: None,
             requirement: "positive and finite",
             value: h_c,
         })?;
@@ -446,7 +446,7 @@ impl<'m> ThermalModel<'m> {
                     if !(v >= 0.0 && v.is_finite()) {
                         return Err(ThermalError::InvalidConductance {
                             interface: name.clone(),
-                            element: e,
+                            element: Some(e),
                             requirement: "non-negative and finite",
                             value: v,
                         });

@@ -15,6 +15,20 @@ pub struct TimeSchedule {
     steps: Vec<f64>,
 }
 
+/// Largest number of steps a schedule may hold.
+pub const MAX_STEPS: usize = 100_000_000;
+
+fn check_count(steps: f64) -> Result<(), ThermalError> {
+    if steps > MAX_STEPS as f64 {
+        Err(ThermalError::TooManySteps {
+            steps,
+            limit: MAX_STEPS,
+        })
+    } else {
+        Ok(())
+    }
+}
+
 fn not_advancing(reason: String) -> ThermalError {
     ThermalError::ScheduleDoesNotAdvance { reason }
 }
@@ -51,6 +65,7 @@ impl TimeSchedule {
 
     /// `n` steps of size `dt` from t = 0.
     pub fn uniform(dt: f64, n: usize) -> Result<Self, ThermalError> {
+        check_count(n as f64)?;
         Self::from_steps(vec![dt; n])
     }
 
@@ -76,7 +91,9 @@ impl TimeSchedule {
                 )));
             }
             let span = t_end - t;
-            let n = ((span / dt) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
+            let nf = ((span / dt) * (1.0 - 1e-12)).ceil().max(1.0);
+            check_count(steps.len() as f64 + nf)?;
+            let n = nf as usize;
             let h = span / n as f64;
             steps.extend(std::iter::repeat_n(h, n));
             t = t_end;
@@ -107,6 +124,15 @@ impl TimeSchedule {
         if !(t_end > 0.0 && t_end.is_finite()) {
             return Err(not_advancing(format!("end time {t_end} is not after 0")));
         }
+        // Steps needed: m·L with m·Δt₀·(g^L − 1)/(g − 1) ≥ t_end (checked
+        // before anything is allocated).
+        let m = per_level as f64;
+        let estimate = if growth == 1.0 {
+            t_end / dt0
+        } else {
+            m * ((t_end * (growth - 1.0) / (m * dt0) + 1.0).ln() / growth.ln()).ceil()
+        };
+        check_count(estimate)?;
         let mut steps = Vec::new();
         let mut t = 0.0;
         let mut dt = dt0;
@@ -241,6 +267,22 @@ mod tests {
         assert_relative_eq!(s.end(), 10.0, epsilon = 1e-12);
         assert_eq!(&s.steps()[..6], &[0.1, 0.1, 0.1, 0.2, 0.2, 0.2]);
         assert!(s.steps().windows(2).take(s.len() - 2).all(|w| w[1] >= w[0]));
+    }
+
+    #[test]
+    fn absurd_step_counts_are_refused_before_allocating() {
+        assert!(matches!(
+            TimeSchedule::segments(&[(1e300, 1e-300)]),
+            Err(ThermalError::TooManySteps { .. })
+        ));
+        assert!(matches!(
+            TimeSchedule::geometric(1e-300, 1.0, 10, 1.0),
+            Err(ThermalError::TooManySteps { .. })
+        ));
+        assert!(matches!(
+            TimeSchedule::uniform(1.0, MAX_STEPS + 1),
+            Err(ThermalError::TooManySteps { .. })
+        ));
     }
 
     #[test]

@@ -139,7 +139,7 @@ fn a_law_returning_a_negative_conductance_is_caught_with_the_element() {
         model.assemble().unwrap_err(),
         ThermalError::InvalidConductance {
             interface: "a_b".into(),
-            element: 5,
+            element: Some(5),
             requirement: "non-negative and finite",
             value: -1.0
         }
