@@ -76,7 +76,7 @@ fn bench(c: &mut Criterion) {
             );
             let methods: &[(&str, Method, LinearSolver)] = if n <= 1024 {
                 &[
-                    ("daubechies-lu", Method::Daubechies, LinearSolver::DenseLu),
+                    ("daubechies-lu", Method::Daubechies, LinearSolver::Dense),
                     (
                         "daubechies-cg1e-9",
                         Method::Daubechies,
@@ -85,8 +85,8 @@ fn bench(c: &mut Criterion) {
                             tol: 1e-12,
                         },
                     ),
-                    ("shannon", Method::Shannon, LinearSolver::DenseLu),
-                    ("nystrom", Method::Nystrom, LinearSolver::DenseLu),
+                    ("shannon", Method::Shannon, LinearSolver::Dense),
+                    ("nystrom", Method::Nystrom, LinearSolver::Dense),
                 ]
             } else {
                 &[(

@@ -125,7 +125,7 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
         n = n.max(wavelet.min_n());
     }
     let linear = match args.compress {
-        None => LinearSolver::DenseLu,
+        None => LinearSolver::Dense,
         Some(eps) if eps > 0.0 && eps < 1.0 && method == Method::Daubechies => {
             LinearSolver::Compressed { eps, tol: 1e-13 }
         }

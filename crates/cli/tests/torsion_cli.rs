@@ -21,8 +21,16 @@ use std::f64::consts::PI;
 use std::process::Command;
 
 fn tecon(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_tecon")).arg("torsion").args(args).output().expect("run tecon");
-    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    let out = Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .arg("torsion")
+        .args(args)
+        .output()
+        .expect("run tecon");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 fn json(args: &[&str]) -> serde_json::Value {
@@ -40,7 +48,15 @@ fn ellipse_json_matches_closed_form_for_every_method() {
     let tau = 2.0 * a * a * b / (a * a + b * b);
     for m in ["daubechies", "shannon", "nystrom"] {
         let v = json(&["--section", "ellipse:a=2,b=1", "--method", m]);
-        for key in ["torsional_rigidity", "max_shear_stress", "max_shear_stress_at", "singular", "n", "method", "multiplier"] {
+        for key in [
+            "torsional_rigidity",
+            "max_shear_stress",
+            "max_shear_stress_at",
+            "singular",
+            "n",
+            "method",
+            "multiplier",
+        ] {
             assert!(v.get(key).is_some(), "{m}: key {key} missing");
         }
         let jj = v["torsional_rigidity"].as_f64().unwrap();
@@ -48,7 +64,10 @@ fn ellipse_json_matches_closed_form_for_every_method() {
         assert!((jj / j - 1.0).abs() < 1e-12, "{m}: J {jj}");
         assert!((tt / tau - 1.0).abs() < 1e-12, "{m}: τ {tt}");
         let at = v["max_shear_stress_at"].as_array().unwrap();
-        assert!(at[0].as_f64().unwrap().abs() < 1e-6 && (at[1].as_f64().unwrap().abs() - 1.0).abs() < 1e-9);
+        assert!(
+            at[0].as_f64().unwrap().abs() < 1e-6
+                && (at[1].as_f64().unwrap().abs() - 1.0).abs() < 1e-9
+        );
         assert_eq!(v["singular"], false);
         assert_eq!(v["method"], m);
         assert!(v["multiplier"].as_f64().unwrap().abs() < 1e-12);
@@ -64,19 +83,40 @@ fn reentrant_corner_and_cusp_are_singular() {
     let v = json(&["--section", "limacon:a=1,c=0.5"]);
     assert_eq!(v["singular"], true);
     let j = v["torsional_rigidity"].as_f64().unwrap();
-    assert!((j / (17.0 * PI / 16.0) - 1.0).abs() < 1e-6, "cardioid J {j}");
+    assert!(
+        (j / (17.0 * PI / 16.0) - 1.0).abs() < 1e-6,
+        "cardioid J {j}"
+    );
 }
 
 #[test]
 fn out_dir_has_csv_and_plots() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path().to_str().unwrap();
-    let (ok, out, err) = tecon(&["--section", "ellipse:a=2,b=1", "--out", d, "--points", "0.5,0.25;0,0"]);
+    let (ok, out, err) = tecon(&[
+        "--section",
+        "ellipse:a=2,b=1",
+        "--out",
+        d,
+        "--points",
+        "0.5,0.25;0,0",
+    ]);
     assert!(ok, "{err}");
     assert!(out.contains("torsional rigidity") && out.contains("point (0.500000, 0.250000)"));
-    for f in ["boundary.csv", "boundary_shear.svg", "boundary_shear.png", "section_shear.svg", "section_shear.png"] {
+    for f in [
+        "boundary.csv",
+        "boundary_shear.svg",
+        "boundary_shear.png",
+        "section_shear.svg",
+        "section_shear.png",
+    ] {
         let p = dir.path().join(f);
-        assert!(std::fs::metadata(&p).map(|m| m.len() > 100).unwrap_or(false), "{f} missing or empty");
+        assert!(
+            std::fs::metadata(&p)
+                .map(|m| m.len() > 100)
+                .unwrap_or(false),
+            "{f} missing or empty"
+        );
     }
     // CSV |q| against the exact distribution 2ab√(b²cos²t + a²sin²t)/(a² + b²)
     let csv = std::fs::read_to_string(dir.path().join("boundary.csv")).unwrap();
@@ -101,7 +141,11 @@ fn section_file_and_study() {
     let f = dir.path().join("tri.toml");
     // equilateral triangle of side 1, given clockwise: reversed and reported
     let h = 3f64.sqrt() / 2.0;
-    std::fs::write(&f, format!("name = \"tri\"\nvertices = [[0.0, 0.0], [0.5, {h}], [1.0, 0.0]]\n")).unwrap();
+    std::fs::write(
+        &f,
+        format!("name = \"tri\"\nvertices = [[0.0, 0.0], [0.5, {h}], [1.0, 0.0]]\n"),
+    )
+    .unwrap();
     let (ok, out, err) = tecon(&["--section", f.to_str().unwrap(), "--study"]);
     assert!(ok, "{err}");
     assert!(out.contains("clockwise"), "{out}");
@@ -132,22 +176,35 @@ fn bad_input_gives_one_line_errors() {
         (&["--section", "ellipse:a=1"], "missing field `b`"),
         (&["--section", "rectangle:w=0,h=1"], "`w`"),
         (&["--section", "hexagon:r=1"], "unknown section kind"),
-        (&["--section", "polygon:0,0;1,1;1,0;0,1"], "self-intersecting"),
+        (
+            &["--section", "polygon:0,0;1,1;1,0;0,1"],
+            "self-intersecting",
+        ),
         (&["--section", "circle:r=1", "--n", "100"], "n = 100"),
-        (&["--section", "circle:r=1", "--wavelet", "sym4"], "--wavelet"),
+        (
+            &["--section", "circle:r=1", "--wavelet", "sym4"],
+            "--wavelet",
+        ),
         (&["--section", "circle:r=1", "--grading", "0.5"], "grading"),
         (&["--section", "circle:r=1", "--points", "1;2"], "--points"),
     ];
     for (args, needle) in cases {
         let (ok, _, err) = tecon(args);
         assert!(!ok, "{args:?} should fail");
-        assert!(err.contains(needle), "{args:?}: stderr `{err}` lacks `{needle}`");
+        assert!(
+            err.contains(needle),
+            "{args:?}: stderr `{err}` lacks `{needle}`"
+        );
         assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: `{err}`");
         assert!(!err.contains("panicked"));
     }
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("bad.toml");
-    std::fs::write(&f, "[[piece]]\nkind = \"arc\"\ncenter = [0, 0]\nstart_deg = 0\nend_deg = 360\n").unwrap();
+    std::fs::write(
+        &f,
+        "[[piece]]\nkind = \"arc\"\ncenter = [0, 0]\nstart_deg = 0\nend_deg = 360\n",
+    )
+    .unwrap();
     let (ok, _, err) = tecon(&["--section", f.to_str().unwrap()]);
     assert!(!ok && err.contains("piece[0].radius"), "{err}");
 }

@@ -33,7 +33,11 @@ impl Ellipse {
     }
     /// τ_max = 2 a² b / (a² + b²) (a ≥ b), at the ends of the minor axis
     pub fn max_shear(&self) -> f64 {
-        let (a, b) = if self.a >= self.b { (self.a, self.b) } else { (self.b, self.a) };
+        let (a, b) = if self.a >= self.b {
+            (self.a, self.b)
+        } else {
+            (self.b, self.a)
+        };
         2.0 * a * a * b / (a * a + b * b)
     }
     /// |q|(t) = 2ab √(b² cos² t + a² sin² t) / (a² + b²)
@@ -128,7 +132,8 @@ impl Limacon {
     /// |q| at θ
     pub fn shear_at(&self, th: f64) -> f64 {
         let c = self.c;
-        self.a * (1.0 + 2.0 * c * c + 2.0 * c * th.cos()) / (1.0 + 4.0 * c * c + 4.0 * c * th.cos()).sqrt()
+        self.a * (1.0 + 2.0 * c * c + 2.0 * c * th.cos())
+            / (1.0 + 4.0 * c * c + 4.0 * c * th.cos()).sqrt()
     }
     /// τ_max = A(1 + (1 − 2c)²)/(2(1 − 2c)) at θ = π (infinite for the cardioid)
     pub fn max_shear(&self) -> f64 {
@@ -175,7 +180,9 @@ impl Groove {
             let c = th.cos();
             let r = 2.0 * a * c;
             let f = 0.5
-                * (2.0 * a * c * (r.powi(3) - b.powi(3)) / 3.0 - (r.powi(4) - b.powi(4)) / 4.0 - 2.0 * a * b * b * c * (r - b)
+                * (2.0 * a * c * (r.powi(3) - b.powi(3)) / 3.0
+                    - (r.powi(4) - b.powi(4)) / 4.0
+                    - 2.0 * a * b * b * c * (r - b)
                     + b * b * (r * r - b * b) / 2.0);
             s += wi * 2.0 * thc * f;
         }

@@ -18,6 +18,8 @@ pub struct Daubechies {
     pub h: Vec<f64>,
     /// high-pass filter g_k = (−1)^k h_{2N−1−k}
     pub g: Vec<f64>,
+    /// moments μ_0 … μ_8 of φ (for φ̂ near 0)
+    moments_small: Vec<f64>,
 }
 
 /// Roots of the complex polynomial Σ a_k z^k (Aberth–Ehrlich iteration, then Newton polish).
@@ -37,9 +39,14 @@ fn poly_roots(a: &[Complex64]) -> Vec<Complex64> {
         (p, dp)
     };
     // initial guesses on a circle of the Cauchy-bound radius
-    let r = 1.0 + a[..deg].iter().map(|c| (c / lead).norm()).fold(0.0, f64::max);
-    let mut z: Vec<Complex64> =
-        (0..deg).map(|k| Complex64::from_polar(0.5 * r, 2.0 * PI * (k as f64 + 0.25) / deg as f64 + 0.4)).collect();
+    let r = 1.0
+        + a[..deg]
+            .iter()
+            .map(|c| (c / lead).norm())
+            .fold(0.0, f64::max);
+    let mut z: Vec<Complex64> = (0..deg)
+        .map(|k| Complex64::from_polar(0.5 * r, 2.0 * PI * (k as f64 + 0.25) / deg as f64 + 0.4))
+        .collect();
     for _ in 0..500 {
         let mut maxstep: f64 = 0.0;
         for i in 0..deg {
@@ -91,7 +98,9 @@ impl Daubechies {
         }
         let n = order;
         // roots y_k of P
-        let pc: Vec<Complex64> = (0..n).map(|k| Complex64::new(binom(n - 1 + k, k), 0.0)).collect();
+        let pc: Vec<Complex64> = (0..n)
+            .map(|k| Complex64::new(binom(n - 1 + k, k), 0.0))
+            .collect();
         let ys = poly_roots(&pc);
         // polynomial in z: (1 + z)^N Π (z − z_k)
         let mut poly = vec![Complex64::new(1.0, 0.0)];
@@ -118,8 +127,23 @@ impl Daubechies {
         let sum: f64 = poly.iter().map(|c| c.re).sum();
         let h: Vec<f64> = poly.iter().map(|c| c.re * 2f64.sqrt() / sum).collect();
         let l = h.len();
-        let g = (0..l).map(|k| if k % 2 == 0 { h[l - 1 - k] } else { -h[l - 1 - k] }).collect();
-        Some(Daubechies { order, h, g })
+        let g = (0..l)
+            .map(|k| {
+                if k % 2 == 0 {
+                    h[l - 1 - k]
+                } else {
+                    -h[l - 1 - k]
+                }
+            })
+            .collect();
+        let mut w = Daubechies {
+            order,
+            h,
+            g,
+            moments_small: vec![],
+        };
+        w.moments_small = w.phi_moments(8);
+        Some(w)
     }
 
     /// Parses "db4" etc.
@@ -152,30 +176,45 @@ impl Daubechies {
         let mut vm: f64 = 0.0;
         let scale = (l - 1).max(1) as f64;
         for m in 0..self.order {
-            let v: f64 = (0..l).map(|k| self.g[k] * (k as f64 / scale).powi(m as i32)).sum();
+            let v: f64 = (0..l)
+                .map(|k| self.g[k] * (k as f64 / scale).powi(m as i32))
+                .sum();
             vm = vm.max(v.abs());
         }
         (s, orth, vm)
     }
 
-    /// m₀(ξ) = (1/√2) Σ h_k e^{−2πikξ}.
+    /// m₀(ξ) = (1/√2) Σ h_k e^{−2πikξ} (Horner in z = e^{−2πiξ}).
     pub fn m0(&self, xi: f64) -> Complex64 {
+        let z = Complex64::from_polar(1.0, -2.0 * PI * xi.rem_euclid(1.0));
         let mut s = Complex64::new(0.0, 0.0);
-        for (k, &hk) in self.h.iter().enumerate() {
-            s += hk * Complex64::from_polar(1.0, -2.0 * PI * ((k as f64 * xi).rem_euclid(1.0)));
+        for &hk in self.h.iter().rev() {
+            s = s * z + hk;
         }
         s / 2f64.sqrt()
     }
 
-    /// φ̂(ξ) = ∫ φ(x) e^{−2πiξx} dx = Π_{j≥1} m₀(ξ/2ʲ) (60 factors).
+    /// φ̂(ξ) = ∫ φ(x) e^{−2πiξx} dx = Π_{j=1}^{12} m₀(ξ/2ʲ) · φ̂(ξ/2¹²), the last
+    /// factor from the moment series φ̂(η) = Σ_m μ_m (−2πiη)^m / m!
+    /// (|η| ≤ 2⁻¹² |ξ|: 8 terms reach rounding for |ξ| ≤ 4).
     pub fn phi_hat(&self, xi: f64) -> Complex64 {
         let mut p = Complex64::new(1.0, 0.0);
         let mut x = xi;
-        for _ in 0..60 {
+        for _ in 0..12 {
             x *= 0.5;
             p *= self.m0(x);
         }
-        p
+        let mu = &self.moments_small;
+        let w = Complex64::new(0.0, -2.0 * PI * x);
+        let mut term = Complex64::new(1.0, 0.0);
+        let mut tail = Complex64::new(0.0, 0.0);
+        for (m, mum) in mu.iter().enumerate() {
+            if m > 0 {
+                term = term * w / m as f64;
+            }
+            tail += mum * term;
+        }
+        p * tail
     }
 
     /// Autocorrelation coefficients p_j, j = −(2N−1) … 2N−1 (index j + 2N − 1).
@@ -201,9 +240,13 @@ impl Daubechies {
         let mut mu = vec![1.0];
         for m in 1..=mmax {
             let mut s = 0.0;
-            for r in 0..m {
-                let ck: f64 = c.iter().enumerate().map(|(k, ck)| ck * (k as f64).powi((m - r) as i32)).sum();
-                s += binom(m, r) * mu[r] * ck;
+            for (r, mur) in mu.iter().enumerate() {
+                let ck: f64 = c
+                    .iter()
+                    .enumerate()
+                    .map(|(k, ck)| ck * (k as f64).powi((m - r) as i32))
+                    .sum();
+                s += binom(m, r) * mur * ck;
             }
             let v = s * 0.5f64.powi(m as i32 + 1) / (1.0 - 0.5f64.powi(m as i32));
             mu.push(v);
@@ -216,7 +259,10 @@ impl Daubechies {
         let p = self.autocorrelation();
         let off = (p.len() as i64 - 1) / 2;
         let psum = |q: usize| -> f64 {
-            p.iter().enumerate().map(|(i, pj)| pj * ((i as i64 - off) as f64).powi(q as i32)).sum()
+            p.iter()
+                .enumerate()
+                .map(|(i, pj)| pj * ((i as i64 - off) as f64).powi(q as i32))
+                .sum()
         };
         let ps: Vec<f64> = (0..=mmax).map(psum).collect();
         let mut mm = vec![1.0];
@@ -230,7 +276,11 @@ impl Daubechies {
                 s += binom(m, r) * mm[r] * ps[m - r];
             }
             // Φ is interpolating (Φ(k) = δ_k): its moments 1 … 2N − 1 vanish exactly
-            mm.push(if m < 2 * self.order { 0.0 } else { s * 0.5f64.powi(m as i32 + 1) / (1.0 - 0.5f64.powi(m as i32)) });
+            mm.push(if m < 2 * self.order {
+                0.0
+            } else {
+                s * 0.5f64.powi(m as i32 + 1) / (1.0 - 0.5f64.powi(m as i32))
+            });
         }
         mm
     }
@@ -303,8 +353,19 @@ impl Daubechies {
                 }
             }
         }
-        let sol = a.lu().solve(&b).unwrap_or_else(|| nalgebra::DVector::from_element(nd, f64::NAN));
-        (0..=dmax).map(|d| if d <= big { sol[d] } else { self.a_far(d as f64, &mm) }).collect()
+        let sol = a
+            .lu()
+            .solve(&b)
+            .unwrap_or_else(|| nalgebra::DVector::from_element(nd, f64::NAN));
+        (0..=dmax)
+            .map(|d| {
+                if d <= big {
+                    sol[d]
+                } else {
+                    self.a_far(d as f64, &mm)
+                }
+            })
+            .collect()
     }
 
     /// Smallest n = 2^J for which the periodised log-kernel Galerkin row is
@@ -329,7 +390,11 @@ impl Daubechies {
             .map(|i| {
                 let d = if i <= half { i } else { n - i };
                 let x = d as f64 / nf;
-                let s = if d == 0 { 0.0 } else { ((PI * x).sin() / (PI * x)).ln() };
+                let s = if d == 0 {
+                    0.0
+                } else {
+                    ((PI * x).sin() / (PI * x)).ln()
+                };
                 let mut corr = 0.0;
                 let inv = 1.0 / (nf * nf);
                 let mut pw = inv;
@@ -353,7 +418,15 @@ pub fn zeta_pair(p: i32, x: f64) -> f64 {
     fn tail(p: i32, y: f64) -> f64 {
         // Σ_{m≥K} (m + y)^{−p}
         const K: f64 = 16.0;
-        let b2r = [1.0 / 6.0, -1.0 / 30.0, 1.0 / 42.0, -1.0 / 30.0, 5.0 / 66.0, -691.0 / 2730.0, 7.0 / 6.0];
+        let b2r = [
+            1.0 / 6.0,
+            -1.0 / 30.0,
+            1.0 / 42.0,
+            -1.0 / 30.0,
+            5.0 / 66.0,
+            -691.0 / 2730.0,
+            7.0 / 6.0,
+        ];
         let z = K + y;
         let pf = p as f64;
         let mut s = z.powf(1.0 - pf) / (pf - 1.0) + 0.5 * z.powf(-pf);

@@ -1,7 +1,7 @@
 //! Trigonometric representation of the solved density μ(t) = q_v(x(t)) |x′(t)|.
 
-use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
+use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 
 /// μ(t) = Re Σ_{|r| ≤ R} ĉ_r e^{2πirt}.
@@ -27,12 +27,15 @@ impl FourierDensity {
             // half shift: t_j = (j + ½)/n → factor e^{−πir/n}
             let ph = Complex64::from_polar(1.0, -PI * r as f64 / n as f64);
             let mut c = buf[k] * ph / n as f64;
-            if r.unsigned_abs() as usize == r_max && n % 2 == 0 {
+            if r.unsigned_abs() as usize == r_max && n.is_multiple_of(2) {
                 c *= 0.5;
             }
             coef[(r + r_max as i64) as usize] = c;
         }
-        FourierDensity { coef, max_freq: r_max }
+        FourierDensity {
+            coef,
+            max_freq: r_max,
+        }
     }
 
     /// Value at t.

@@ -9,7 +9,9 @@ pub enum GeometryError {
     #[error("the section has no boundary pieces")]
     Empty,
     /// A non-finite or out-of-range parameter.
-    #[error("piece {piece}: invalid parameter (non-finite, non-positive radius/axis, or limaçon c outside [0, 1/2])")]
+    #[error(
+        "piece {piece}: invalid parameter (non-finite, non-positive radius/axis, or limaçon c outside [0, 1/2])"
+    )]
     InvalidParameter {
         /// piece index
         piece: usize,
@@ -23,7 +25,9 @@ pub enum GeometryError {
         length: f64,
     },
     /// Piece k does not end where piece k+1 starts.
-    #[error("boundary not closed: piece {piece} ends {gap:e} away from the start of the next piece")]
+    #[error(
+        "boundary not closed: piece {piece} ends {gap:e} away from the start of the next piece"
+    )]
     NotClosed {
         /// piece index
         piece: usize,
@@ -54,7 +58,9 @@ pub enum GeometryError {
 #[derive(Debug, Error)]
 pub enum SpecError {
     /// Unknown section kind.
-    #[error("unknown section kind `{0}` (expected circle, ellipse, rectangle, triangle, polygon, regular, groove, limacon, or a file path)")]
+    #[error(
+        "unknown section kind `{0}` (expected circle, ellipse, rectangle, triangle, polygon, regular, groove, limacon, or a file path)"
+    )]
     UnknownKind(String),
     /// A required field is missing.
     #[error("{kind}: missing field `{field}`")]

@@ -24,11 +24,11 @@ use crate::error::SolveError;
 use crate::geometry::Section;
 use crate::grading::Parametrisation;
 use crate::kernels;
-use crate::linalg::{dense_lu_solve, projected_pcg, threshold};
+use crate::linalg::{dense_symmetric_solve, projected_pcg, threshold};
 use crate::solve::{CompressionReport, LinearSolver, Options, RawSolution};
 use rayon::prelude::*;
-use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
+use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 
 /// The assembled Daubechies Galerkin system in the scaling basis.
@@ -54,7 +54,8 @@ pub fn projection_kernel(w: &Daubechies, n: usize) -> Vec<f64> {
     let mut buf = vec![Complex64::new(0.0, 0.0); n];
     let half = (n / 2) as i64;
     for r in -half..=half {
-        let mut c = s * w.phi_hat(-(r as f64) / nf) * Complex64::from_polar(1.0, -PI * r as f64 / nf);
+        let mut c =
+            s * w.phi_hat(-(r as f64) / nf) * Complex64::from_polar(1.0, -PI * r as f64 / nf);
         if r.abs() == half {
             c *= 0.5;
         }
@@ -68,34 +69,43 @@ pub fn projection_kernel(w: &Daubechies, n: usize) -> Vec<f64> {
 fn convolve_rows_transpose(m: &[f64], n: usize, phat: &[Complex64]) -> Vec<f64> {
     let fwd = FftPlanner::<f64>::new().plan_fft_forward(n);
     let inv = FftPlanner::<f64>::new().plan_fft_inverse(n);
-    let rows: Vec<Vec<f64>> = (0..n)
-        .into_par_iter()
-        .map(|a| {
-            let mut buf: Vec<Complex64> = m[a * n..(a + 1) * n].iter().map(|&v| Complex64::new(v, 0.0)).collect();
-            fwd.process(&mut buf);
-            for (b, ph) in buf.iter_mut().zip(phat) {
-                *b *= ph;
-            }
-            inv.process(&mut buf);
-            buf.iter().map(|v| v.re / n as f64).collect()
-        })
-        .collect();
-    let mut out = vec![0.0; n * n];
-    out.par_chunks_mut(n).enumerate().for_each(|(k, row)| {
-        for (a, r) in row.iter_mut().enumerate() {
-            *r = rows[a][k];
+    let mut rows = vec![0.0; n * n];
+    rows.par_chunks_mut(n).enumerate().for_each(|(a, out)| {
+        let mut buf: Vec<Complex64> = m[a * n..(a + 1) * n]
+            .iter()
+            .map(|&v| Complex64::new(v, 0.0))
+            .collect();
+        fwd.process(&mut buf);
+        for (b, ph) in buf.iter_mut().zip(phat) {
+            *b *= ph;
+        }
+        inv.process(&mut buf);
+        for (o, v) in out.iter_mut().zip(&buf) {
+            *o = v.re / n as f64;
         }
     });
-    out
+    kernels::transpose(&rows, n)
 }
 
-fn convolve(v: &[f64], p: &[f64]) -> Vec<f64> {
+/// (P v)_i = Σ_a p(i − a) v_a by FFT.
+fn convolve(v: &[f64], phat: &[Complex64]) -> Vec<f64> {
     let n = v.len();
-    (0..n).map(|i| (0..n).map(|a| p[(i + n - a) % n] * v[a]).sum()).collect()
+    let mut buf: Vec<Complex64> = v.iter().map(|&x| Complex64::new(x, 0.0)).collect();
+    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    for (b, ph) in buf.iter_mut().zip(phat) {
+        *b *= ph;
+    }
+    FftPlanner::new().plan_fft_inverse(n).process(&mut buf);
+    buf.iter().map(|z| z.re / n as f64).collect()
 }
 
 /// Assembles the Daubechies Galerkin system.
-pub fn assemble(section: &Section, param: &Parametrisation, n: usize, w: Daubechies) -> Result<GalerkinSystem, SolveError> {
+pub fn assemble(
+    section: &Section,
+    param: &Parametrisation,
+    n: usize,
+    w: Daubechies,
+) -> Result<GalerkinSystem, SolveError> {
     if !n.is_power_of_two() || n < w.min_n() {
         return Err(SolveError::BadN {
             n,
@@ -113,39 +123,33 @@ pub fn assemble(section: &Section, param: &Parametrisation, n: usize, w: Daubech
     let t = convolve_rows_transpose(&l, n, &phat);
     let al = convolve_rows_transpose(&t, n, &phat);
     let c = w.log_circulant(n);
-    let mut a = vec![0.0; n * n];
+    // A = −(C + P L Pᵀ)/2π (symmetric up to rounding; L is symmetric)
+    let mut a = al;
     a.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
         for (k, v) in row.iter_mut().enumerate() {
-            // symmetrise exactly: (A + Aᵀ)/2 of the smooth part
-            let sm = 0.5 * (al[i * n + k] + al[k * n + i]);
-            *v = -(c[(i + n - k) % n] + sm) / (2.0 * PI);
+            *v = -(c[(i + n - k) % n] + *v) / (2.0 * PI);
         }
     });
-    let load = convolve(&f, &p);
-    let functional = convolve(&g2, &p);
+    let load = convolve(&f, &phat);
+    let functional = convolve(&g2, &phat);
     let constraint = vec![1.0 / (n as f64).sqrt(); n];
-    Ok(GalerkinSystem { n, matrix: a, load, constraint, functional, wavelet: w })
+    Ok(GalerkinSystem {
+        n,
+        matrix: a,
+        load,
+        constraint,
+        functional,
+        wavelet: w,
+    })
 }
 
 /// Wavelet-basis matrix W A Wᵀ (row transforms, transpose, row transforms).
 pub fn to_wavelet_basis(sys: &GalerkinSystem, j0: usize) -> Vec<f64> {
     let n = sys.n;
     let tr = |m: &[f64]| -> Vec<f64> {
-        let rows: Vec<Vec<f64>> = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                let mut r = m[i * n..(i + 1) * n].to_vec();
-                sys.wavelet.fwt(&mut r, j0);
-                r
-            })
-            .collect();
-        let mut out = vec![0.0; n * n];
-        out.par_chunks_mut(n).enumerate().for_each(|(k, row)| {
-            for (i, v) in row.iter_mut().enumerate() {
-                *v = rows[i][k];
-            }
-        });
-        out
+        let mut rows = m.to_vec();
+        rows.par_chunks_mut(n).for_each(|r| sys.wavelet.fwt(r, j0));
+        kernels::transpose(&rows, n)
     };
     tr(&tr(&sys.matrix))
 }
@@ -162,10 +166,12 @@ pub fn coarse_level(w: &Daubechies) -> usize {
 /// ‖A − B‖₂ / ‖A‖₂ for symmetric A (dense) and B (CSR), by power iteration.
 fn operator_error(n: usize, a: &[f64], b: &crate::linalg::Csr) -> f64 {
     let norm = |apply: &dyn Fn(&[f64], &mut [f64])| -> f64 {
-        let mut x: Vec<f64> = (0..n).map(|i| 1.0 + 0.37 * ((i * 7919) % 101) as f64 / 101.0).collect();
+        let mut x: Vec<f64> = (0..n)
+            .map(|i| 1.0 + 0.37 * ((i * 7919) % 101) as f64 / 101.0)
+            .collect();
         let mut y = vec![0.0; n];
         let mut lam = 0.0;
-        for _ in 0..60 {
+        for _ in 0..30 {
             let nx = x.iter().map(|v| v * v).sum::<f64>().sqrt();
             x.iter_mut().for_each(|v| *v /= nx);
             apply(&x, &mut y);
@@ -175,7 +181,9 @@ fn operator_error(n: usize, a: &[f64], b: &crate::linalg::Csr) -> f64 {
         lam
     };
     let dense = |x: &[f64], y: &mut [f64]| {
-        y.par_iter_mut().enumerate().for_each(|(i, yi)| *yi = (0..n).map(|j| a[i * n + j] * x[j]).sum());
+        y.par_iter_mut()
+            .enumerate()
+            .for_each(|(i, yi)| *yi = (0..n).map(|j| a[i * n + j] * x[j]).sum());
     };
     let diff = |x: &[f64], y: &mut [f64]| {
         dense(x, y);
@@ -187,12 +195,17 @@ fn operator_error(n: usize, a: &[f64], b: &crate::linalg::Csr) -> f64 {
 }
 
 /// Solves with the options' linear solver and returns the raw solution.
-pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) -> Result<RawSolution, SolveError> {
-    let w = Daubechies::new(opts.wavelet_order).ok_or_else(|| SolveError::BadWavelet(format!("db{}", opts.wavelet_order)))?;
+pub(crate) fn solve(
+    section: &Section,
+    param: &Parametrisation,
+    opts: &Options,
+) -> Result<RawSolution, SolveError> {
+    let w = Daubechies::new(opts.wavelet_order)
+        .ok_or_else(|| SolveError::BadWavelet(format!("db{}", opts.wavelet_order)))?;
     let n = opts.n;
     let sys = assemble(section, param, n, w)?;
     let (alpha, c, compression) = match opts.linear {
-        LinearSolver::DenseLu => {
+        LinearSolver::Dense => {
             let nn = n + 1;
             let mut m = vec![0.0; nn * nn];
             for i in 0..n {
@@ -202,7 +215,7 @@ pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) 
             }
             let mut rhs = sys.load.clone();
             rhs.push(0.0);
-            let sol = dense_lu_solve(nn, &m, &rhs)?;
+            let sol = dense_symmetric_solve(nn, &m, &rhs)?;
             (sol[..n].to_vec(), sol[n], None)
         }
         LinearSolver::Compressed { eps, tol } => {
@@ -214,7 +227,9 @@ pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) 
             sys.wavelet.fwt(&mut e, j0);
             let mut fw = sys.load.clone();
             sys.wavelet.fwt(&mut fw, j0);
-            let d: Vec<f64> = (0..n).map(|i| aw[i * n + i].abs().max(f64::MIN_POSITIVE)).collect();
+            let d: Vec<f64> = (0..n)
+                .map(|i| aw[i * n + i].abs().max(f64::MIN_POSITIVE))
+                .collect();
             let (xw, c, iters, res) = projected_pcg(&csr, &e, &fw, &d, tol, 10 * n)?;
             let mut alpha = xw;
             sys.wavelet.ifwt(&mut alpha, j0);
@@ -238,7 +253,10 @@ pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) 
         .map(|r| s * sys.wavelet.phi_hat(r as f64 / n as f64) * ah[r.rem_euclid(n as i64) as usize])
         .collect();
     Ok(RawSolution {
-        density: FourierDensity { coef, max_freq: rmax },
+        density: FourierDensity {
+            coef,
+            max_freq: rmax,
+        },
         multiplier: c,
         j_integral,
         compression,

@@ -90,11 +90,26 @@ impl std::fmt::Debug for Piece {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Piece::Segment { a, b } => write!(f, "Segment({a:?} -> {b:?})"),
-            Piece::Arc { center, radius, theta0, theta1 } => {
+            Piece::Arc {
+                center,
+                radius,
+                theta0,
+                theta1,
+            } => {
                 write!(f, "Arc(c={center:?}, r={radius}, {theta0} -> {theta1})")
             }
-            Piece::Ellipse { center, a, b, rotation, t0, t1 } => {
-                write!(f, "Ellipse(c={center:?}, a={a}, b={b}, rot={rotation}, {t0} -> {t1})")
+            Piece::Ellipse {
+                center,
+                a,
+                b,
+                rotation,
+                t0,
+                t1,
+            } => {
+                write!(
+                    f,
+                    "Ellipse(c={center:?}, a={a}, b={b}, rot={rotation}, {t0} -> {t1})"
+                )
             }
             Piece::Limacon { scale, c, .. } => write!(f, "Limacon(A={scale}, c={c})"),
             Piece::Parametric { .. } => write!(f, "Parametric"),
@@ -130,7 +145,12 @@ impl Piece {
                 let sgn = if end == End::Start { 1.0 } else { -1.0 };
                 [[sgn * omega * d[0], sgn * omega * d[1]], d, [0.0, 0.0]]
             }
-            Piece::Arc { radius, theta0, theta1, .. } => {
+            Piece::Arc {
+                radius,
+                theta0,
+                theta1,
+                ..
+            } => {
                 let dth = theta1 - theta0;
                 let off = match end {
                     End::Start => trig_diff(theta0, omega * dth),
@@ -144,7 +164,14 @@ impl Piece {
                     [-radius * dth * dth * c, -radius * dth * dth * s],
                 ]
             }
-            Piece::Ellipse { a, b, rotation, t0, t1, .. } => {
+            Piece::Ellipse {
+                a,
+                b,
+                rotation,
+                t0,
+                t1,
+                ..
+            } => {
                 let dt = t1 - t0;
                 let off = match end {
                     End::Start => trig_diff(t0, omega * dt),
@@ -158,7 +185,13 @@ impl Piece {
                     rot([-a * dt * dt * c, -b * dt * dt * s], rotation),
                 ]
             }
-            Piece::Limacon { scale, c, theta0, reversed, .. } => {
+            Piece::Limacon {
+                scale,
+                c,
+                theta0,
+                reversed,
+                ..
+            } => {
                 let dth = if reversed { -TAU } else { TAU };
                 // start and end are the same point (θ0 and θ0 ± 2π)
                 let (base, delta) = match end {
@@ -172,14 +205,20 @@ impl Piece {
                 let (s2, c2) = (2.0 * th).sin_cos();
                 [
                     [scale * (d1[0] + c * d2[0]), scale * (d1[1] + c * d2[1])],
-                    [scale * dth * (-s1 - 2.0 * c * s2), scale * dth * (c1 + 2.0 * c * c2)],
+                    [
+                        scale * dth * (-s1 - 2.0 * c * s2),
+                        scale * dth * (c1 + 2.0 * c * c2),
+                    ],
                     [
                         scale * dth * dth * (-c1 - 4.0 * c * c2),
                         scale * dth * dth * (-s1 - 4.0 * c * s2),
                     ],
                 ]
             }
-            Piece::Parametric { ref curve, reversed } => {
+            Piece::Parametric {
+                ref curve,
+                reversed,
+            } => {
                 let tau = if reversed { 1.0 - w } else { w };
                 let sg = if reversed { -1.0 } else { 1.0 };
                 let [x, d1, d2] = curve(tau);
@@ -196,23 +235,44 @@ impl Piece {
                 End::Start => a,
                 End::End => b,
             },
-            Piece::Arc { center, radius, theta0, theta1 } => {
+            Piece::Arc {
+                center,
+                radius,
+                theta0,
+                theta1,
+            } => {
                 let th = if end == End::Start { theta0 } else { theta1 };
                 [center[0] + radius * th.cos(), center[1] + radius * th.sin()]
             }
-            Piece::Ellipse { center, a, b, rotation, t0, t1 } => {
+            Piece::Ellipse {
+                center,
+                a,
+                b,
+                rotation,
+                t0,
+                t1,
+            } => {
                 let t = if end == End::Start { t0 } else { t1 };
                 let p = rot([a * t.cos(), b * t.sin()], rotation);
                 [center[0] + p[0], center[1] + p[1]]
             }
-            Piece::Limacon { scale, c, shift, theta0, .. } => {
+            Piece::Limacon {
+                scale,
+                c,
+                shift,
+                theta0,
+                ..
+            } => {
                 let th = theta0;
                 [
                     shift[0] + scale * (th.cos() + c * (2.0 * th).cos()),
                     shift[1] + scale * (th.sin() + c * (2.0 * th).sin()),
                 ]
             }
-            Piece::Parametric { ref curve, reversed } => {
+            Piece::Parametric {
+                ref curve,
+                reversed,
+            } => {
                 let tau = match (end, reversed) {
                     (End::Start, false) | (End::End, true) => 0.0,
                     _ => 1.0,
@@ -224,7 +284,11 @@ impl Piece {
 
     /// Absolute point, dx/dw and d²x/dw² at local parameter w ∈ [0, 1].
     pub fn point(&self, w: f64) -> [V2; 3] {
-        let (end, om) = if w <= 0.5 { (End::Start, w) } else { (End::End, 1.0 - w) };
+        let (end, om) = if w <= 0.5 {
+            (End::Start, w)
+        } else {
+            (End::End, 1.0 - w)
+        };
         let [o, d1, d2] = self.eval(end, om);
         let e = self.endpoint(end);
         [[e[0] + o[0], e[1] + o[1]], d1, d2]
@@ -234,16 +298,49 @@ impl Piece {
     pub fn reversed(&self) -> Piece {
         match self.clone() {
             Piece::Segment { a, b } => Piece::Segment { a: b, b: a },
-            Piece::Arc { center, radius, theta0, theta1 } => {
-                Piece::Arc { center, radius, theta0: theta1, theta1: theta0 }
-            }
-            Piece::Ellipse { center, a, b, rotation, t0, t1 } => {
-                Piece::Ellipse { center, a, b, rotation, t0: t1, t1: t0 }
-            }
-            Piece::Limacon { scale, c, shift, theta0, reversed } => {
-                Piece::Limacon { scale, c, shift, theta0, reversed: !reversed }
-            }
-            Piece::Parametric { curve, reversed } => Piece::Parametric { curve, reversed: !reversed },
+            Piece::Arc {
+                center,
+                radius,
+                theta0,
+                theta1,
+            } => Piece::Arc {
+                center,
+                radius,
+                theta0: theta1,
+                theta1: theta0,
+            },
+            Piece::Ellipse {
+                center,
+                a,
+                b,
+                rotation,
+                t0,
+                t1,
+            } => Piece::Ellipse {
+                center,
+                a,
+                b,
+                rotation,
+                t0: t1,
+                t1: t0,
+            },
+            Piece::Limacon {
+                scale,
+                c,
+                shift,
+                theta0,
+                reversed,
+            } => Piece::Limacon {
+                scale,
+                c,
+                shift,
+                theta0,
+                reversed: !reversed,
+            },
+            Piece::Parametric { curve, reversed } => Piece::Parametric {
+                curve,
+                reversed: !reversed,
+            },
         }
     }
 
@@ -270,7 +367,12 @@ impl Piece {
     pub fn length(&self) -> f64 {
         match *self {
             Piece::Segment { a, b } => ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt(),
-            Piece::Arc { radius, theta0, theta1, .. } => radius * (theta1 - theta0).abs(),
+            Piece::Arc {
+                radius,
+                theta0,
+                theta1,
+                ..
+            } => radius * (theta1 - theta0).abs(),
             _ => self.integrate(&|_, d| d[0].hypot(d[1])),
         }
     }
@@ -321,13 +423,18 @@ fn unit(v: V2) -> V2 {
 fn seg_intersect(p1: V2, p2: V2, q1: V2, q2: V2) -> bool {
     let cross = |o: V2, a: V2, b: V2| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
     let on_seg = |a: V2, b: V2, p: V2| {
-        p[0] >= a[0].min(b[0]) && p[0] <= a[0].max(b[0]) && p[1] >= a[1].min(b[1]) && p[1] <= a[1].max(b[1])
+        p[0] >= a[0].min(b[0])
+            && p[0] <= a[0].max(b[0])
+            && p[1] >= a[1].min(b[1])
+            && p[1] <= a[1].max(b[1])
     };
     let d1 = cross(q1, q2, p1);
     let d2 = cross(q1, q2, p2);
     let d3 = cross(p1, p2, q1);
     let d4 = cross(p1, p2, q2);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
         return true;
     }
     // touching or collinear overlap (non-adjacent polyline segments must not meet at all)
@@ -349,21 +456,43 @@ impl Section {
         for (k, p) in pieces.iter().enumerate() {
             let ok = match *p {
                 Piece::Segment { a, b } => a.iter().chain(&b).all(|v| v.is_finite()),
-                Piece::Arc { center, radius, theta0, theta1 } => {
+                Piece::Arc {
+                    center,
+                    radius,
+                    theta0,
+                    theta1,
+                } => {
                     center.iter().all(|v| v.is_finite())
                         && radius.is_finite()
                         && theta0.is_finite()
                         && theta1.is_finite()
                         && radius > 0.0
                 }
-                Piece::Ellipse { center, a, b, rotation, t0, t1 } => {
+                Piece::Ellipse {
+                    center,
+                    a,
+                    b,
+                    rotation,
+                    t0,
+                    t1,
+                } => {
                     center.iter().all(|v| v.is_finite())
                         && [a, b, rotation, t0, t1].iter().all(|v| v.is_finite())
                         && a > 0.0
                         && b > 0.0
                 }
-                Piece::Limacon { scale, c, shift, theta0, .. } => {
-                    scale.is_finite() && scale > 0.0 && (0.0..=0.5).contains(&c) && shift.iter().all(|v| v.is_finite()) && theta0.is_finite()
+                Piece::Limacon {
+                    scale,
+                    c,
+                    shift,
+                    theta0,
+                    ..
+                } => {
+                    scale.is_finite()
+                        && scale > 0.0
+                        && (0.0..=0.5).contains(&c)
+                        && shift.iter().all(|v| v.is_finite())
+                        && theta0.is_finite()
                 }
                 Piece::Parametric { .. } => true,
             };
@@ -374,11 +503,17 @@ impl Section {
         let lengths: Vec<f64> = pieces.iter().map(|p| p.length()).collect();
         let total: f64 = lengths.iter().sum();
         if !(total.is_finite() && total > 0.0) {
-            return Err(GeometryError::Degenerate { piece: 0, length: total });
+            return Err(GeometryError::Degenerate {
+                piece: 0,
+                length: total,
+            });
         }
         for (k, &l) in lengths.iter().enumerate() {
-            if !(l > 1e-10 * total) {
-                return Err(GeometryError::Degenerate { piece: k, length: l });
+            if l.is_nan() || l <= 1e-10 * total {
+                return Err(GeometryError::Degenerate {
+                    piece: k,
+                    length: l,
+                });
             }
         }
         let m = pieces.len();
@@ -409,14 +544,22 @@ impl Section {
                 }
             }
         }
-        let mut sec = Section { name: name.into(), pieces, junctions: vec![], notes: vec![], area: 0.0, centroid: [0.0; 2] };
+        let mut sec = Section {
+            name: name.into(),
+            pieces,
+            junctions: vec![],
+            notes: vec![],
+            area: 0.0,
+            centroid: [0.0; 2],
+        };
         let area = sec.signed_area();
         if area.abs() < 1e-12 * total * total {
             return Err(GeometryError::ZeroArea);
         }
         if area < 0.0 {
             sec.pieces = sec.pieces.iter().rev().map(|p| p.reversed()).collect();
-            sec.notes.push("boundary was clockwise; reversed to counter-clockwise".into());
+            sec.notes
+                .push("boundary was clockwise; reversed to counter-clockwise".into());
         }
         sec.area = area.abs();
         let (mx, my) = sec.first_moments();
@@ -494,7 +637,10 @@ impl Section {
                 let cross = din[0] * dout[1] - din[1] * dout[0];
                 let dot = din[0] * dout[0] + din[1] * dout[1];
                 let turn = cross.atan2(dot);
-                Junction { point: cur.endpoint(End::Start), interior_angle: PI - turn }
+                Junction {
+                    point: cur.endpoint(End::Start),
+                    interior_angle: PI - turn,
+                }
             })
             .collect()
     }
@@ -534,10 +680,25 @@ impl Section {
             .iter()
             .map(|p| match p.clone() {
                 Piece::Segment { a, b } => Piece::Segment { a: f(a), b: f(b) },
-                Piece::Arc { center, radius, theta0, theta1 } => {
-                    Piece::Arc { center: f(center), radius: radius * lambda, theta0: theta0 + phi, theta1: theta1 + phi }
-                }
-                Piece::Ellipse { center, a, b, rotation, t0, t1 } => Piece::Ellipse {
+                Piece::Arc {
+                    center,
+                    radius,
+                    theta0,
+                    theta1,
+                } => Piece::Arc {
+                    center: f(center),
+                    radius: radius * lambda,
+                    theta0: theta0 + phi,
+                    theta1: theta1 + phi,
+                },
+                Piece::Ellipse {
+                    center,
+                    a,
+                    b,
+                    rotation,
+                    t0,
+                    t1,
+                } => Piece::Ellipse {
                     center: f(center),
                     a: a * lambda,
                     b: b * lambda,
@@ -545,11 +706,23 @@ impl Section {
                     t0,
                     t1,
                 },
-                Piece::Limacon { scale, c, shift, theta0, reversed } => {
+                Piece::Limacon {
+                    scale,
+                    c,
+                    shift,
+                    theta0,
+                    reversed,
+                } => {
                     // rotation by φ: z ↦ e^{iφ} z; A(e^{iθ}+c e^{2iθ}) e^{iφ} is not a limaçon
                     // in θ + φ unless we re-parametrise; keep it as a user curve instead.
                     if phi != 0.0 {
-                        let src = Piece::Limacon { scale, c, shift, theta0, reversed };
+                        let src = Piece::Limacon {
+                            scale,
+                            c,
+                            shift,
+                            theta0,
+                            reversed,
+                        };
                         let g = move |tau: f64| {
                             let [x, d1, d2] = src.point(tau);
                             let x = rot([lambda * x[0], lambda * x[1]], phi);
@@ -559,9 +732,18 @@ impl Section {
                                 rot([lambda * d2[0], lambda * d2[1]], phi),
                             ]
                         };
-                        Piece::Parametric { curve: Arc::new(g), reversed: false }
+                        Piece::Parametric {
+                            curve: Arc::new(g),
+                            reversed: false,
+                        }
                     } else {
-                        Piece::Limacon { scale: scale * lambda, c, shift: f(shift), theta0, reversed }
+                        Piece::Limacon {
+                            scale: scale * lambda,
+                            c,
+                            shift: f(shift),
+                            theta0,
+                            reversed,
+                        }
                     }
                 }
                 Piece::Parametric { curve, reversed } => {
@@ -574,7 +756,10 @@ impl Section {
                             rot([lambda * d2[0], lambda * d2[1]], phi),
                         ]
                     };
-                    Piece::Parametric { curve: Arc::new(f2), reversed }
+                    Piece::Parametric {
+                        curve: Arc::new(f2),
+                        reversed,
+                    }
                 }
             })
             .collect();

@@ -35,7 +35,10 @@ impl BPoint {
     /// Absolute position.
     #[inline]
     pub fn x(&self) -> V2 {
-        [self.anchor[0] + self.offset[0], self.anchor[1] + self.offset[1]]
+        [
+            self.anchor[0] + self.offset[0],
+            self.anchor[1] + self.offset[1],
+        ]
     }
     /// |dx/dt|.
     #[inline]
@@ -106,13 +109,23 @@ impl Parametrisation {
         let mut acc = 0.0;
         for (k, l) in lens.iter().enumerate() {
             acc += 0.5 * (l / total + 1.0 / m as f64);
-            let b = if k + 1 == m { 1.0 } else { (acc * scale).round() / scale };
+            let b = if k + 1 == m {
+                1.0
+            } else {
+                (acc * scale).round() / scale
+            };
             let prev = *breaks.last().unwrap_or(&0.0);
             breaks.push(if b > prev { b } else { prev + 1.0 / scale });
         }
-        let grading = (0..m).map(|k| if section.graded(k) { Some(p) } else { None }).collect();
+        let grading = (0..m)
+            .map(|k| if section.graded(k) { Some(p) } else { None })
+            .collect();
         let anchors = section.junctions.iter().map(|j| j.point).collect();
-        Parametrisation { breaks, grading, anchors }
+        Parametrisation {
+            breaks,
+            grading,
+            anchors,
+        }
     }
 
     /// Index of the panel holding t ∈ [0, 1).
@@ -127,7 +140,10 @@ impl Parametrisation {
     pub fn local(&self, t: f64) -> (usize, f64) {
         let t = t.rem_euclid(1.0);
         let k = self.panel(t);
-        (k, (t - self.breaks[k]) / (self.breaks[k + 1] - self.breaks[k]))
+        (
+            k,
+            (t - self.breaks[k]) / (self.breaks[k + 1] - self.breaks[k]),
+        )
     }
 
     /// Evaluates the boundary at t (taken modulo 1).
@@ -139,7 +155,11 @@ impl Parametrisation {
         let db = b1 - b0;
         let piece = &section.pieces[k];
         let s0 = (t - b0) / db;
-        let (end, sig) = if s0 <= 0.5 { (End::Start, s0) } else { (End::End, (b1 - t) / db) };
+        let (end, sig) = if s0 <= 0.5 {
+            (End::Start, s0)
+        } else {
+            (End::End, (b1 - t) / db)
+        };
         let (om, dw, ddw) = match self.grading[k] {
             Some(p) => kress(sig, p),
             None => (sig, 1.0, 0.0),
@@ -147,20 +167,29 @@ impl Parametrisation {
         // dw/ds for the global direction: w = ω near the start, w = 1 − ω(σ) with σ = 1 − s near the end
         let ddw = if end == End::Start { ddw } else { -ddw };
         let [off, xw, xww] = piece.eval(end, om);
-        let anchor = if end == End::Start { self.anchors[k] } else { self.anchors[(k + 1) % m] };
+        let anchor = if end == End::Start {
+            self.anchors[k]
+        } else {
+            self.anchors[(k + 1) % m]
+        };
         let ws = dw / db;
         let wss = ddw / (db * db);
         BPoint {
             anchor,
             offset: off,
             d1: [xw[0] * ws, xw[1] * ws],
-            d2: [xww[0] * ws * ws + xw[0] * wss, xww[1] * ws * ws + xw[1] * wss],
+            d2: [
+                xww[0] * ws * ws + xw[0] * wss,
+                xww[1] * ws * ws + xw[1] * wss,
+            ],
         }
     }
 
     /// The half-shifted nodes t_j = (j + ½)/n evaluated on the boundary.
     pub fn nodes(&self, section: &Section, n: usize) -> Vec<BPoint> {
-        (0..n).map(|j| self.eval(section, (j as f64 + 0.5) / n as f64)).collect()
+        (0..n)
+            .map(|j| self.eval(section, (j as f64 + 0.5) / n as f64))
+            .collect()
     }
 }
 
@@ -175,8 +204,14 @@ mod tests {
                 let (w, dw, ddw) = kress(s, p);
                 let (wp, dwp, _) = kress(s + h, p);
                 let (wm, dwm, _) = kress(s - h, p);
-                assert!(((wp - wm) / (2.0 * h) - dw).abs() < 1e-7 * (1.0 + dw.abs()), "p={p} s={s}");
-                assert!(((dwp - dwm) / (2.0 * h) - ddw).abs() < 1e-6 * (1.0 + ddw.abs()), "p={p} s={s}");
+                assert!(
+                    ((wp - wm) / (2.0 * h) - dw).abs() < 1e-7 * (1.0 + dw.abs()),
+                    "p={p} s={s}"
+                );
+                assert!(
+                    ((dwp - dwm) / (2.0 * h) - ddw).abs() < 1e-6 * (1.0 + ddw.abs()),
+                    "p={p} s={s}"
+                );
                 assert!(w > 0.0 && w <= 0.5);
             }
             // symmetric point

@@ -11,15 +11,41 @@
 //! Rows are computed independently in parallel, so the result does not
 //! depend on the number of threads.
 
-use crate::grading::{diff, BPoint};
+use crate::grading::{BPoint, diff};
 use rayon::prelude::*;
 use std::f64::consts::PI;
+
+/// Blocked transpose of a row-major n×n matrix (parallel over output row
+/// blocks; every entry is a copy, so the result is thread-count independent).
+pub fn transpose<T: Copy + Default + Send + Sync>(m: &[T], n: usize) -> Vec<T> {
+    const B: usize = 64;
+    let mut out = vec![T::default(); n * n];
+    out.par_chunks_mut(B * n)
+        .enumerate()
+        .for_each(|(kb, chunk)| {
+            let k0 = kb * B;
+            let rows = chunk.len() / n;
+            for a0 in (0..n).step_by(B) {
+                let a1 = (a0 + B).min(n);
+                for dk in 0..rows {
+                    let k = k0 + dk;
+                    let dst = &mut chunk[dk * n..(dk + 1) * n];
+                    for a in a0..a1 {
+                        dst[a] = m[a * n + k];
+                    }
+                }
+            }
+        });
+    out
+}
 
 /// Row-major n×n matrix of the smooth log remainder L at the nodes.
 pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
     let n = nodes.len();
     let mut out = vec![0.0; n * n];
-    let sines: Vec<f64> = (0..n).map(|k| (2.0 * (PI * k as f64 / n as f64).sin()).abs().ln()).collect();
+    let sines: Vec<f64> = (0..n)
+        .map(|k| (2.0 * (PI * k as f64 / n as f64).sin()).abs().ln())
+        .collect();
     out.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
         let xi = &nodes[i];
         for (j, r) in row.iter_mut().enumerate() {
@@ -27,8 +53,8 @@ pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
                 *r = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
             } else {
                 let d = diff(xi, &nodes[j]);
-                let k = if i > j { i - j } else { j - i };
-                *r = d[0].hypot(d[1]).max(f64::MIN_POSITIVE).ln() - sines[k];
+                let k = i.abs_diff(j);
+                *r = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln() - sines[k];
             }
         }
     });
@@ -52,7 +78,8 @@ pub fn rhs(nodes: &[BPoint], x0: [f64; 2]) -> Vec<f64> {
                 let d = diff(xi, yj); // x − y
                 let py = yj.x();
                 // g(y) − g(x) = ½ (y − x)·(y + x − 2x₀)
-                let dg = -0.5 * (d[0] * (py[0] + pi[0] - 2.0 * x0[0]) + d[1] * (py[1] + pi[1] - 2.0 * x0[1]));
+                let dg = -0.5
+                    * (d[0] * (py[0] + pi[0] - 2.0 * x0[0]) + d[1] * (py[1] + pi[1] - 2.0 * x0[1]));
                 // (x − y)·n_y |y′| = (x−y)₁ y′₂ − (x−y)₂ y′₁
                 let num = d[0] * yj.d1[1] - d[1] * yj.d1[0];
                 let r2 = d[0] * d[0] + d[1] * d[1];

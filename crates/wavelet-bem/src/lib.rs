@@ -67,4 +67,4 @@ pub mod solve;
 
 pub use error::{GeometryError, SolveError, SpecError};
 pub use geometry::{Piece, Section};
-pub use solve::{solve, LinearSolver, Method, Options, TorsionSolution};
+pub use solve::{LinearSolver, Method, Options, TorsionSolution, solve};

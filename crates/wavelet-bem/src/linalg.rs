@@ -15,14 +15,34 @@ pub fn dense_lu_solve(n: usize, a: &[f64], b: &[f64]) -> Result<Vec<f64>, SolveE
     if out.iter().all(|v| v.is_finite()) {
         Ok(out)
     } else {
-        Err(SolveError::Linear("LU produced non-finite values (singular matrix)".into()))
+        Err(SolveError::Linear(
+            "LU produced non-finite values (singular matrix)".into(),
+        ))
+    }
+}
+
+/// Solves the dense row-major symmetric (indefinite) system A x = b by the
+/// Bunch–Kaufman LBLᵀ factorisation (faer; half the work of LU).
+pub fn dense_symmetric_solve(n: usize, a: &[f64], b: &[f64]) -> Result<Vec<f64>, SolveError> {
+    let m = Mat::<f64>::from_fn(n, n, |i, j| a[i * n + j]);
+    let f = m.lblt(faer::Side::Lower);
+    let rhs = Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+    let x = f.solve(&rhs);
+    let out: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+    if out.iter().all(|v| v.is_finite()) {
+        Ok(out)
+    } else {
+        Err(SolveError::Linear(
+            "LBLᵀ produced non-finite values (singular matrix)".into(),
+        ))
     }
 }
 
 /// Singular values (descending) of a dense row-major n×n matrix.
 pub fn singular_values(n: usize, a: &[f64]) -> Result<Vec<f64>, SolveError> {
     let m = Mat::<f64>::from_fn(n, n, |i, j| a[i * n + j]);
-    m.singular_values().map_err(|e| SolveError::Linear(format!("SVD failed: {e:?}")))
+    m.singular_values()
+        .map_err(|e| SolveError::Linear(format!("SVD failed: {e:?}")))
 }
 
 /// A compressed symmetric matrix in CSR form.
@@ -73,7 +93,12 @@ pub fn threshold(n: usize, a: &[f64], eps: f64) -> Csr {
         }
         indptr.push(indices.len());
     }
-    Csr { n, indptr, indices, data }
+    Csr {
+        n,
+        indptr,
+        indices,
+        data,
+    }
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -115,8 +140,10 @@ pub fn projected_pcg(
         a.matvec(&p, &mut ap);
         proj(&mut ap);
         let pap = dot(&p, &ap);
-        if !(pap > 0.0) {
-            return Err(SolveError::Linear(format!("CG breakdown (pᵀAp = {pap:e}) at iteration {it}")));
+        if pap.is_nan() || pap <= 0.0 {
+            return Err(SolveError::Linear(format!(
+                "CG breakdown (pᵀAp = {pap:e}) at iteration {it}"
+            )));
         }
         let alpha = rz / pap;
         for i in 0..n {
@@ -137,6 +164,11 @@ pub fn projected_pcg(
     // multiplier from the e-component of the residual: c = eᵀ(f − A x)/eᵀe
     let mut ax = vec![0.0; n];
     a.matvec(&x, &mut ax);
-    let c = e.iter().zip(f.iter().zip(&ax)).map(|(ei, (fi, ai))| ei * (fi - ai)).sum::<f64>() / ee;
+    let c = e
+        .iter()
+        .zip(f.iter().zip(&ax))
+        .map(|(ei, (fi, ai))| ei * (fi - ai))
+        .sum::<f64>()
+        / ee;
     Ok((x, c, it, rel))
 }

@@ -9,10 +9,10 @@
 //! with R_k = −(1/n) Σ_{m=1}^{n/2−1} cos(2πmk/n)/m − (−1)^k/n² the exact
 //! integrals of ln|2 sin π(t_i − s)| against the trigonometric interpolant.
 
-use crate::linalg::dense_lu_solve;
 use crate::error::SolveError;
-use crate::kernels;
 use crate::grading::BPoint;
+use crate::kernels;
+use crate::linalg::dense_lu_solve;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 

@@ -70,7 +70,10 @@ mod tests {
         let (x, w) = gauss_legendre_01(10);
         for d in 0..20 {
             let s: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(d)).sum();
-            assert!((s - 1.0 / (d as f64 + 1.0)).abs() < 1e-15, "degree {d}: {s}");
+            assert!(
+                (s - 1.0 / (d as f64 + 1.0)).abs() < 1e-15,
+                "degree {d}: {s}"
+            );
         }
     }
 }

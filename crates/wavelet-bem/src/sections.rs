@@ -24,14 +24,29 @@ use std::f64::consts::{PI, TAU};
 
 /// Circle of radius `r` centred at the origin (one closed arc).
 pub fn circle(r: f64) -> Result<Section, GeometryError> {
-    Section::new(format!("circle r={r}"), vec![Piece::Arc { center: [0.0, 0.0], radius: r, theta0: 0.0, theta1: TAU }])
+    Section::new(
+        format!("circle r={r}"),
+        vec![Piece::Arc {
+            center: [0.0, 0.0],
+            radius: r,
+            theta0: 0.0,
+            theta1: TAU,
+        }],
+    )
 }
 
 /// Ellipse with semi-axes `a` (x) and `b` (y), centred at the origin.
 pub fn ellipse(a: f64, b: f64) -> Result<Section, GeometryError> {
     Section::new(
         format!("ellipse a={a} b={b}"),
-        vec![Piece::Ellipse { center: [0.0, 0.0], a, b, rotation: 0.0, t0: 0.0, t1: TAU }],
+        vec![Piece::Ellipse {
+            center: [0.0, 0.0],
+            a,
+            b,
+            rotation: 0.0,
+            t0: 0.0,
+            t1: TAU,
+        }],
     )
 }
 
@@ -41,7 +56,12 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
         return Err(GeometryError::TooFewVertices(vertices.len()));
     }
     let m = vertices.len();
-    let pieces = (0..m).map(|k| Piece::Segment { a: vertices[k], b: vertices[(k + 1) % m] }).collect();
+    let pieces = (0..m)
+        .map(|k| Piece::Segment {
+            a: vertices[k],
+            b: vertices[(k + 1) % m],
+        })
+        .collect();
     Section::new(format!("polygon ({m} vertices)"), pieces)
 }
 
@@ -56,7 +76,11 @@ pub fn rectangle(w: f64, h: f64) -> Result<Section, GeometryError> {
 /// Equilateral triangle of side `a`, centroid at the origin, one side horizontal at the bottom.
 pub fn triangle(a: f64) -> Result<Section, GeometryError> {
     let h = a * 3f64.sqrt() / 2.0;
-    let mut s = polygon(&[[-0.5 * a, -h / 3.0], [0.5 * a, -h / 3.0], [0.0, 2.0 * h / 3.0]])?;
+    let mut s = polygon(&[
+        [-0.5 * a, -h / 3.0],
+        [0.5 * a, -h / 3.0],
+        [0.0, 2.0 * h / 3.0],
+    ])?;
     s.name = format!("triangle a={a}");
     Ok(s)
 }
@@ -87,8 +111,18 @@ pub fn groove(a: f64, b: f64) -> Result<Section, GeometryError> {
     Section::new(
         format!("groove a={a} b={b}"),
         vec![
-            Piece::Arc { center: [a, 0.0], radius: a, theta0: -th, theta1: th },
-            Piece::Arc { center: [0.0, 0.0], radius: b, theta0: beta, theta1: -beta },
+            Piece::Arc {
+                center: [a, 0.0],
+                radius: a,
+                theta0: -th,
+                theta1: th,
+            },
+            Piece::Arc {
+                center: [0.0, 0.0],
+                radius: b,
+                theta0: beta,
+                theta1: -beta,
+            },
         ],
     )
 }
@@ -97,16 +131,30 @@ pub fn groove(a: f64, b: f64) -> Result<Section, GeometryError> {
 pub fn limacon(a: f64, c: f64) -> Result<Section, GeometryError> {
     Section::new(
         format!("limacon A={a} c={c}"),
-        vec![Piece::Limacon { scale: a, c, shift: [0.0, 0.0], theta0: PI, reversed: false }],
+        vec![Piece::Limacon {
+            scale: a,
+            c,
+            shift: [0.0, 0.0],
+            theta0: PI,
+            reversed: false,
+        }],
     )
 }
 
 fn bad(kind: &str, field: &str, value: &str, reason: &str) -> SpecError {
-    SpecError::BadValue { kind: kind.into(), field: field.into(), value: value.into(), reason: reason.into() }
+    SpecError::BadValue {
+        kind: kind.into(),
+        field: field.into(),
+        value: value.into(),
+        reason: reason.into(),
+    }
 }
 
 fn parse_num(kind: &str, field: &str, value: &str) -> Result<f64, SpecError> {
-    let v: f64 = value.trim().parse().map_err(|_| bad(kind, field, value, "not a number"))?;
+    let v: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| bad(kind, field, value, "not a number"))?;
     if !v.is_finite() {
         return Err(bad(kind, field, value, "not finite"));
     }
@@ -125,10 +173,17 @@ fn positive(kind: &str, field: &str, value: &str) -> Result<f64, SpecError> {
 fn fields(kind: &str, body: &str, allowed: &[&str]) -> Result<Vec<(String, String)>, SpecError> {
     let mut out = Vec::new();
     for part in body.split(',').filter(|p| !p.trim().is_empty()) {
-        let (k, v) = part.split_once('=').ok_or_else(|| bad(kind, part.trim(), part, "expected key=value"))?;
+        let (k, v) = part
+            .split_once('=')
+            .ok_or_else(|| bad(kind, part.trim(), part, "expected key=value"))?;
         let k = k.trim().to_string();
         if !allowed.contains(&k.as_str()) {
-            return Err(bad(kind, &k, v, &format!("unknown field (expected {})", allowed.join(", "))));
+            return Err(bad(
+                kind,
+                &k,
+                v,
+                &format!("unknown field (expected {})", allowed.join(", ")),
+            ));
         }
         out.push((k, v.trim().to_string()));
     }
@@ -139,7 +194,10 @@ fn get<'a>(kind: &str, f: &'a [(String, String)], key: &str) -> Result<&'a str, 
     f.iter()
         .find(|(k, _)| k == key)
         .map(|(_, v)| v.as_str())
-        .ok_or_else(|| SpecError::MissingField { kind: kind.into(), field: key.into() })
+        .ok_or_else(|| SpecError::MissingField {
+            kind: kind.into(),
+            field: key.into(),
+        })
 }
 
 /// Parses a `--section` specification (see the module docs) or reads a section file.
@@ -148,7 +206,9 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
     if path.is_file() {
         return read_section_file(path);
     }
-    let (kind, body) = spec.split_once(':').ok_or_else(|| SpecError::UnknownKind(spec.to_string()))?;
+    let (kind, body) = spec
+        .split_once(':')
+        .ok_or_else(|| SpecError::UnknownKind(spec.to_string()))?;
     let kind = kind.trim();
     match kind {
         "circle" => {
@@ -157,11 +217,17 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
         }
         "ellipse" => {
             let f = fields(kind, body, &["a", "b"])?;
-            Ok(ellipse(positive(kind, "a", get(kind, &f, "a")?)?, positive(kind, "b", get(kind, &f, "b")?)?)?)
+            Ok(ellipse(
+                positive(kind, "a", get(kind, &f, "a")?)?,
+                positive(kind, "b", get(kind, &f, "b")?)?,
+            )?)
         }
         "rectangle" => {
             let f = fields(kind, body, &["w", "h"])?;
-            Ok(rectangle(positive(kind, "w", get(kind, &f, "w")?)?, positive(kind, "h", get(kind, &f, "h")?)?)?)
+            Ok(rectangle(
+                positive(kind, "w", get(kind, &f, "w")?)?,
+                positive(kind, "h", get(kind, &f, "h")?)?,
+            )?)
         }
         "triangle" => {
             let f = fields(kind, body, &["a"])?;
@@ -170,11 +236,16 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
         "regular" => {
             let f = fields(kind, body, &["n", "r"])?;
             let ns = get(kind, &f, "n")?;
-            let n: usize = ns.parse().map_err(|_| bad(kind, "n", ns, "not an integer"))?;
+            let n: usize = ns
+                .parse()
+                .map_err(|_| bad(kind, "n", ns, "not an integer"))?;
             if n < 3 {
                 return Err(bad(kind, "n", ns, "need at least 3 sides"));
             }
-            Ok(regular_polygon(n, positive(kind, "r", get(kind, &f, "r")?)?)?)
+            Ok(regular_polygon(
+                n,
+                positive(kind, "r", get(kind, &f, "r")?)?,
+            )?)
         }
         "groove" => {
             let f = fields(kind, body, &["a", "b"])?;
@@ -200,7 +271,9 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
             let mut v = Vec::new();
             for (i, pair) in body.split(';').filter(|p| !p.trim().is_empty()).enumerate() {
                 let field = format!("vertex {}", i + 1);
-                let (x, y) = pair.split_once(',').ok_or_else(|| bad(kind, &field, pair, "expected x,y"))?;
+                let (x, y) = pair
+                    .split_once(',')
+                    .ok_or_else(|| bad(kind, &field, pair, "expected x,y"))?;
                 v.push([parse_num(kind, &field, x)?, parse_num(kind, &field, y)?]);
             }
             if v.len() < 3 {
@@ -235,14 +308,19 @@ struct SectionFile {
 /// Reads a TOML section file (polygon vertices or a chain of segments and arcs).
 pub fn read_section_file(path: &std::path::Path) -> Result<Section, SpecError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SpecError::Io { path: p.clone(), source: e })?;
+    let text = std::fs::read_to_string(path).map_err(|e| SpecError::Io {
+        path: p.clone(),
+        source: e,
+    })?;
     parse_section_toml(&text, &p)
 }
 
 /// Parses the text of a section file; `origin` names it in errors.
 pub fn parse_section_toml(text: &str, origin: &str) -> Result<Section, SpecError> {
-    let file: SectionFile = toml::from_str(text)
-        .map_err(|e| SpecError::Toml { path: origin.into(), message: e.message().replace('\n', " ") + &span_hint(text, e.span()) })?;
+    let file: SectionFile = toml::from_str(text).map_err(|e| SpecError::Toml {
+        path: origin.into(),
+        message: e.message().replace('\n', " ") + &span_hint(text, e.span()),
+    })?;
     let kind = format!("file {origin}");
     let mut sec = match (file.vertices, file.piece) {
         (Some(v), None) => polygon(&v)?,
@@ -250,17 +328,31 @@ pub fn parse_section_toml(text: &str, origin: &str) -> Result<Section, SpecError
             let mut out = Vec::with_capacity(pieces.len());
             for (i, fp) in pieces.iter().enumerate() {
                 let need = |o: Option<[f64; 2]>, f: &str| {
-                    o.ok_or_else(|| SpecError::MissingField { kind: kind.clone(), field: format!("piece[{i}].{f}") })
+                    o.ok_or_else(|| SpecError::MissingField {
+                        kind: kind.clone(),
+                        field: format!("piece[{i}].{f}"),
+                    })
                 };
                 let needf = |o: Option<f64>, f: &str| {
-                    o.ok_or_else(|| SpecError::MissingField { kind: kind.clone(), field: format!("piece[{i}].{f}") })
+                    o.ok_or_else(|| SpecError::MissingField {
+                        kind: kind.clone(),
+                        field: format!("piece[{i}].{f}"),
+                    })
                 };
                 match fp.kind.as_str() {
-                    "segment" => out.push(Piece::Segment { a: need(fp.from, "from")?, b: need(fp.to, "to")? }),
+                    "segment" => out.push(Piece::Segment {
+                        a: need(fp.from, "from")?,
+                        b: need(fp.to, "to")?,
+                    }),
                     "arc" => {
                         let r = needf(fp.radius, "radius")?;
-                        if !(r > 0.0) {
-                            return Err(bad(&kind, &format!("piece[{i}].radius"), &r.to_string(), "must be positive"));
+                        if r.is_nan() || r <= 0.0 {
+                            return Err(bad(
+                                &kind,
+                                &format!("piece[{i}].radius"),
+                                &r.to_string(),
+                                "must be positive",
+                            ));
                         }
                         out.push(Piece::Arc {
                             center: need(fp.center, "center")?,
@@ -270,14 +362,31 @@ pub fn parse_section_toml(text: &str, origin: &str) -> Result<Section, SpecError
                         })
                     }
                     other => {
-                        return Err(bad(&kind, &format!("piece[{i}].kind"), other, "expected \"segment\" or \"arc\""));
+                        return Err(bad(
+                            &kind,
+                            &format!("piece[{i}].kind"),
+                            other,
+                            "expected \"segment\" or \"arc\"",
+                        ));
                     }
                 }
             }
             Section::new(origin.to_string(), out)?
         }
-        (Some(_), Some(_)) => return Err(bad(&kind, "vertices", "", "give either `vertices` or `[[piece]]`, not both")),
-        (None, None) => return Err(SpecError::MissingField { kind, field: "vertices or [[piece]]".into() }),
+        (Some(_), Some(_)) => {
+            return Err(bad(
+                &kind,
+                "vertices",
+                "",
+                "give either `vertices` or `[[piece]]`, not both",
+            ));
+        }
+        (None, None) => {
+            return Err(SpecError::MissingField {
+                kind,
+                field: "vertices or [[piece]]".into(),
+            });
+        }
     };
     if let Some(n) = file.name {
         sec.name = n;

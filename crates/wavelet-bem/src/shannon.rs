@@ -16,20 +16,24 @@ use crate::error::SolveError;
 use crate::geometry::Section;
 use crate::grading::Parametrisation;
 use crate::kernels;
-use crate::linalg::dense_lu_solve;
+use crate::linalg::dense_symmetric_solve;
 use crate::solve::{Options, RawSolution};
 use rayon::prelude::*;
-use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
+use rustfft::num_complex::Complex64;
 use std::f64::consts::{PI, SQRT_2};
 
 /// Fourier coefficients ĥ(r) = (1/n) Σ_a h_a e^{−2πir t_a}, t_a = (a + ½)/n, stored at r mod n.
-fn dft_shifted(h: &[f64]) -> Vec<Complex64> {
+fn dft_shifted(h: &[f64], fft: &dyn rustfft::Fft<f64>) -> Vec<Complex64> {
     let n = h.len();
     let mut buf: Vec<Complex64> = h.iter().map(|&v| Complex64::new(v, 0.0)).collect();
-    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    fft.process(&mut buf);
     for (k, b) in buf.iter_mut().enumerate() {
-        let r = if k <= n / 2 { k as f64 } else { k as f64 - n as f64 };
+        let r = if k <= n / 2 {
+            k as f64
+        } else {
+            k as f64 - n as f64
+        };
         *b *= Complex64::from_polar(1.0 / n as f64, -PI * r / n as f64);
     }
     buf
@@ -60,9 +64,16 @@ pub struct ShannonSystem {
 }
 
 /// Assembles the augmented harmonic-wavelet Galerkin system with n − 1 basis functions.
-pub fn assemble(section: &Section, param: &Parametrisation, n: usize) -> Result<ShannonSystem, SolveError> {
-    if n % 2 != 0 {
-        return Err(SolveError::BadN { n, reason: "the Shannon method needs an even n".into() });
+pub fn assemble(
+    section: &Section,
+    param: &Parametrisation,
+    n: usize,
+) -> Result<ShannonSystem, SolveError> {
+    if !n.is_multiple_of(2) {
+        return Err(SolveError::BadN {
+            n,
+            reason: "the Shannon method needs an even n".into(),
+        });
     }
     let x0 = section.centroid;
     let nodes = param.nodes(section, n);
@@ -71,20 +82,30 @@ pub fn assemble(section: &Section, param: &Parametrisation, n: usize) -> Result<
     let g2 = kernels::radius_sq(&nodes, x0);
     // 2-D transform Â[r, s] = (1/n²) Σ_ab e^{−2πi r t_a} L_ab e^{+2πi s t_b}:
     // rows: conj of the forward transform of each row (L real ⇒ Σ_b L_ab e^{+…} = conj(dft)).
-    let rows: Vec<Vec<Complex64>> = (0..n).into_par_iter().map(|a| dft_shifted(&l[a * n..(a + 1) * n]).iter().map(|z| z.conj()).collect()).collect();
     let fwd = FftPlanner::<f64>::new().plan_fft_forward(n);
-    let cols: Vec<Vec<Complex64>> = (0..n)
-        .into_par_iter()
-        .map(|s| {
-            let mut buf: Vec<Complex64> = (0..n).map(|a| rows[a][s]).collect();
-            fwd.process(&mut buf);
-            for (k, b) in buf.iter_mut().enumerate() {
-                let r = if k <= n / 2 { k as f64 } else { k as f64 - n as f64 };
-                *b *= Complex64::from_polar(1.0 / n as f64, -PI * r / n as f64);
-            }
-            buf
-        })
-        .collect(); // cols[s][r] = Â[r, s]
+    // rows: Σ_b L_ab e^{+2πi s t_b} = conj(dft of row a), L real
+    let mut rows = vec![Complex64::new(0.0, 0.0); n * n];
+    rows.par_chunks_mut(n).enumerate().for_each(|(a, out)| {
+        let r = dft_shifted(&l[a * n..(a + 1) * n], fwd.as_ref());
+        for (o, v) in out.iter_mut().zip(&r) {
+            *o = v.conj();
+        }
+    });
+    // columns: after a transpose, row s holds (Σ_b …)_a; its shifted DFT over a gives Â[r, s]
+    let mut cols = kernels::transpose(&rows, n);
+    drop(rows);
+    cols.par_chunks_mut(n).for_each(|c| {
+        fwd.process(c);
+        for (k, b) in c.iter_mut().enumerate() {
+            let r = if k <= n / 2 {
+                k as f64
+            } else {
+                k as f64 - n as f64
+            };
+            *b *= Complex64::from_polar(1.0 / n as f64, -PI * r / n as f64);
+        }
+    });
+    // cols[s n + r] = Â[r, s]; L symmetric ⇒ Â[r, s] = conj(Â[s, r]) = conj(cols[r n + s]): rows read contiguously
     let idx = |r: i64| r.rem_euclid(n as i64) as usize;
     let dim = n - 1;
     let nn = dim + 1;
@@ -103,7 +124,7 @@ pub fn assemble(section: &Section, param: &Parametrisation, n: usize) -> Result<
                     if ur.norm() == 0.0 || us.norm() == 0.0 {
                         continue;
                     }
-                    let mut a = cols[idx(s)][idx(r)];
+                    let mut a = cols[idx(r) * n + idx(s)].conj();
                     if r == s && r != 0 {
                         a += -1.0 / (2.0 * r.abs() as f64);
                     }
@@ -116,23 +137,34 @@ pub fn assemble(section: &Section, param: &Parametrisation, n: usize) -> Result<
             row[dim] = 1.0;
         }
     });
-    let fh = dft_shifted(&f);
-    let gh = dft_shifted(&g2);
+    let fh = dft_shifted(&f, fwd.as_ref());
+    let gh = dft_shifted(&g2, fwd.as_ref());
     let proj = |h: &[Complex64], al: usize| -> f64 {
-        basis(al).iter().map(|&(r, u)| (u.conj() * h[idx(r)]).re).sum()
+        basis(al)
+            .iter()
+            .map(|&(r, u)| (u.conj() * h[idx(r)]).re)
+            .sum()
     };
     let mut rhs: Vec<f64> = (0..dim).map(|al| proj(&fh, al)).collect();
     rhs.push(0.0);
     let functional = (0..dim).map(|al| proj(&gh, al)).collect();
-    Ok(ShannonSystem { matrix: m, rhs, functional })
+    Ok(ShannonSystem {
+        matrix: m,
+        rhs,
+        functional,
+    })
 }
 
 /// Solves the harmonic-wavelet (spectral) Galerkin system.
-pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) -> Result<RawSolution, SolveError> {
+pub(crate) fn solve(
+    section: &Section,
+    param: &Parametrisation,
+    opts: &Options,
+) -> Result<RawSolution, SolveError> {
     let n = opts.n;
     let sys = assemble(section, param, n)?;
     let dim = n - 1;
-    let sol = dense_lu_solve(n, &sys.matrix, &sys.rhs)?;
+    let sol = dense_symmetric_solve(n, &sys.matrix, &sys.rhs)?;
     let j_integral: f64 = (0..dim).map(|al| sol[al] * sys.functional[al]).sum();
     let rmax = n / 2 - 1;
     let mut coef = vec![Complex64::new(0.0, 0.0); 2 * rmax + 1];
@@ -143,5 +175,13 @@ pub(crate) fn solve(section: &Section, param: &Parametrisation, opts: &Options) 
             }
         }
     }
-    Ok(RawSolution { density: FourierDensity { coef, max_freq: rmax }, multiplier: sol[dim], j_integral, compression: None })
+    Ok(RawSolution {
+        density: FourierDensity {
+            coef,
+            max_freq: rmax,
+        },
+        multiplier: sol[dim],
+        j_integral,
+        compression: None,
+    })
 }

@@ -5,7 +5,7 @@
 use crate::density::FourierDensity;
 use crate::error::SolveError;
 use crate::geometry::{Section, V2};
-use crate::grading::{diff, BPoint, Parametrisation};
+use crate::grading::{BPoint, Parametrisation};
 use crate::{galerkin, kernels, nystrom, shannon};
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -32,11 +32,12 @@ impl std::fmt::Display for Method {
     }
 }
 
-/// How the linear system is solved (Daubechies Galerkin only; the others always use LU).
+/// How the linear system is solved (compression applies to Daubechies Galerkin only).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LinearSolver {
-    /// dense LU (faer) on the augmented system
-    DenseLu,
+    /// dense direct solve of the augmented system (faer: Bunch–Kaufman LBLᵀ for the
+    /// symmetric Galerkin systems, partial-pivoting LU for Nyström)
+    Dense,
     /// wavelet-basis matrix thresholded at ε·max|a|, projected PCG with level
     /// (diagonal) scaling to relative residual `tol`
     Compressed {
@@ -64,7 +65,13 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { n: 256, method: Method::Daubechies, wavelet_order: 4, grading: 6.0, linear: LinearSolver::DenseLu }
+        Options {
+            n: 256,
+            method: Method::Daubechies,
+            wavelet_order: 4,
+            grading: 6.0,
+            linear: LinearSolver::Dense,
+        }
     }
 }
 
@@ -159,20 +166,31 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
         return Err(SolveError::BadGrading(opts.grading));
     }
     if opts.n < 8 || opts.n > 1 << 16 {
-        return Err(SolveError::BadN { n: opts.n, reason: "need 8 ≤ n ≤ 65536".into() });
+        return Err(SolveError::BadN {
+            n: opts.n,
+            reason: "need 8 ≤ n ≤ 65536".into(),
+        });
     }
     let param = Parametrisation::new(section, opts.grading);
     let x0 = section.centroid;
     let raw = match opts.method {
         Method::Nystrom => {
-            if opts.n % 2 != 0 {
-                return Err(SolveError::BadN { n: opts.n, reason: "Nyström needs an even n".into() });
+            if !opts.n.is_multiple_of(2) {
+                return Err(SolveError::BadN {
+                    n: opts.n,
+                    reason: "Nyström needs an even n".into(),
+                });
             }
             let nodes = param.nodes(section, opts.n);
             let (mu, c) = nystrom::solve(&nodes, x0)?;
             let g2 = kernels::radius_sq(&nodes, x0);
             let ji = mu.iter().zip(&g2).map(|(a, b)| a * b).sum::<f64>() / opts.n as f64;
-            RawSolution { density: FourierDensity::from_nodes(&mu), multiplier: c, j_integral: ji, compression: None }
+            RawSolution {
+                density: FourierDensity::from_nodes(&mu),
+                multiplier: c,
+                j_integral: ji,
+                compression: None,
+            }
         }
         Method::Daubechies => galerkin::solve(section, &param, opts)?,
         Method::Shannon => shannon::solve(section, &param, opts)?,
@@ -211,11 +229,21 @@ impl TorsionSolution {
     /// tangent-continuous junction).
     pub fn in_cluster(&self, t: f64) -> bool {
         let (k, s) = self.param.local(t);
-        let Some(p) = self.param.grading[k] else { return false };
+        let Some(p) = self.param.grading[k] else {
+            return false;
+        };
         let m = self.section.pieces.len();
-        let (sig, junc) = if s <= 0.5 { (s, k) } else { (1.0 - s, (k + 1) % m) };
+        let (sig, junc) = if s <= 0.5 {
+            (s, k)
+        } else {
+            (1.0 - s, (k + 1) % m)
+        };
         let (_, dw, _) = crate::grading::kress(sig, p);
-        let limit = if self.section.junctions[junc].is_smooth() { 1e-3 } else { 0.1 };
+        let limit = if self.section.junctions[junc].is_smooth() {
+            1e-3
+        } else {
+            0.1
+        };
         dw < limit
     }
 
@@ -223,7 +251,10 @@ impl TorsionSolution {
     pub fn boundary_samples(&self, m: usize) -> Vec<BoundarySample> {
         let ts: Vec<f64> = (0..m).map(|k| (k as f64 + 0.5) / m as f64).collect();
         let mu = self.density.sample(m, 0.5);
-        let pts: Vec<BPoint> = ts.par_iter().map(|&t| self.param.eval(&self.section, t)).collect();
+        let pts: Vec<BPoint> = ts
+            .par_iter()
+            .map(|&t| self.param.eval(&self.section, t))
+            .collect();
         // arc length by the trapezoidal rule on the same grid (exact spectrally for smooth |x′|)
         let mut s = 0.0;
         let mut out = Vec::with_capacity(m);
@@ -238,7 +269,8 @@ impl TorsionSolution {
             }
             let x = pts[k].x();
             let nrm = pts[k].normal();
-            let q = mu[k] / pts[k].speed() - ((x[0] - self.centroid[0]) * nrm[0] + (x[1] - self.centroid[1]) * nrm[1]);
+            let q = mu[k] / pts[k].speed()
+                - ((x[0] - self.centroid[0]) * nrm[0] + (x[1] - self.centroid[1]) * nrm[1]);
             out.push(BoundarySample { t: ts[k], s, x, q });
         }
         out
@@ -256,7 +288,13 @@ impl TorsionSolution {
             }
         }
         // golden section on [t − 1/m, t + 1/m]
-        let f = |t: f64| -> f64 { if self.in_cluster(t) { 0.0 } else { self.flux_at(t).1.abs() } };
+        let f = |t: f64| -> f64 {
+            if self.in_cluster(t) {
+                0.0
+            } else {
+                self.flux_at(t).1.abs()
+            }
+        };
         let (mut a, mut b) = (best.1 - 1.0 / m as f64, best.1 + 1.0 / m as f64);
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let mut c = b - g * (b - a);
@@ -282,10 +320,27 @@ impl TorsionSolution {
         if vm > best.0 {
             best = (vm, tm, self.param.eval(&self.section, tm).x());
         }
-        let singular_at = self.section.junctions.iter().find(|j| j.is_singular()).map(|j| j.point);
+        let singular_at = self
+            .section
+            .junctions
+            .iter()
+            .find(|j| j.is_singular())
+            .map(|j| j.point);
         match singular_at {
-            Some(p) => MaxShear { value: None, at: Some(p), singular: true, regular_max: best.0, regular_at: best.2 },
-            None => MaxShear { value: Some(best.0), at: Some(best.2), singular: false, regular_max: best.0, regular_at: best.2 },
+            Some(p) => MaxShear {
+                value: None,
+                at: Some(p),
+                singular: true,
+                regular_max: best.0,
+                regular_at: best.2,
+            },
+            None => MaxShear {
+                value: Some(best.0),
+                at: Some(best.2),
+                singular: false,
+                regular_max: best.0,
+                regular_at: best.2,
+            },
         }
     }
 
@@ -296,7 +351,9 @@ impl TorsionSolution {
     pub fn interior(&self, points: &[V2]) -> Vec<InteriorValue> {
         let m = 4 * self.options.n;
         let mu = self.density.sample(m, 0.5);
-        let nodes: Vec<BPoint> = (0..m).map(|k| self.param.eval(&self.section, (k as f64 + 0.5) / m as f64)).collect();
+        let nodes: Vec<BPoint> = (0..m)
+            .map(|k| self.param.eval(&self.section, (k as f64 + 0.5) / m as f64))
+            .collect();
         let x0 = self.centroid;
         let h = 1.0 / m as f64;
         points
@@ -325,11 +382,15 @@ impl TorsionSolution {
                     vx += h * (gw[0] * mu[k] + grad_g[0] * kk - dg * gk[0]);
                     vy += h * (gw[1] * mu[k] + grad_g[1] * kk - dg * gk[1]);
                 }
-                let _ = diff; // (offset arithmetic is not needed off the boundary)
                 let u = v - gx;
                 let ux = vx - grad_g[0];
                 let uy = vy - grad_g[1];
-                InteriorValue { x, u, tau_xz: uy, tau_yz: -ux }
+                InteriorValue {
+                    x,
+                    u,
+                    tau_xz: uy,
+                    tau_yz: -ux,
+                }
             })
             .collect()
     }

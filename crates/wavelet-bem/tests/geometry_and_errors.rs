@@ -18,7 +18,7 @@
 
 use std::f64::consts::PI;
 use tecon_wavelet_bem::geometry::Piece;
-use tecon_wavelet_bem::grading::{diff, Parametrisation};
+use tecon_wavelet_bem::grading::{Parametrisation, diff};
 use tecon_wavelet_bem::sections::{parse_section_toml, parse_spec};
 use tecon_wavelet_bem::*;
 
@@ -29,7 +29,11 @@ fn builtin_sections_have_the_right_area_centroid_and_angles() {
     let e = sections::ellipse(2.0, 0.5).unwrap();
     assert!((e.area - PI).abs() < 1e-13);
     let t = sections::triangle(2.0).unwrap();
-    assert!((t.area - 3f64.sqrt()).abs() < 1e-14 && t.centroid[0].abs() < 1e-15 && t.centroid[1].abs() < 1e-15);
+    assert!(
+        (t.area - 3f64.sqrt()).abs() < 1e-14
+            && t.centroid[0].abs() < 1e-15
+            && t.centroid[1].abs() < 1e-15
+    );
     for j in &t.junctions {
         assert!((j.interior_angle - PI / 3.0).abs() < 1e-12 && !j.is_singular());
     }
@@ -37,11 +41,23 @@ fn builtin_sections_have_the_right_area_centroid_and_angles() {
     assert!((r.area - 1.5 * 3f64.sqrt()).abs() < 1e-13);
     let g = sections::groove(1.0, 0.5).unwrap();
     assert_eq!(g.junctions.len(), 2);
-    assert!(g.junctions.iter().all(|j| j.interior_angle < PI && j.interior_angle > 0.0));
+    assert!(
+        g.junctions
+            .iter()
+            .all(|j| j.interior_angle < PI && j.interior_angle > 0.0)
+    );
     let card = sections::limacon(1.0, 0.5).unwrap();
-    assert!((card.area - 1.5 * PI).abs() < 1e-12, "cardioid area {}", card.area); // π A² (1 + 2c²)
+    assert!(
+        (card.area - 1.5 * PI).abs() < 1e-12,
+        "cardioid area {}",
+        card.area
+    ); // π A² (1 + 2c²)
     // (the cusp's one-sided tangents come from short chords: the angle is 2π to O(chord))
-    assert!((card.junctions[0].interior_angle - 2.0 * PI).abs() < 1e-2, "{}", card.junctions[0].interior_angle);
+    assert!(
+        (card.junctions[0].interior_angle - 2.0 * PI).abs() < 1e-2,
+        "{}",
+        card.junctions[0].interior_angle
+    );
     assert!(card.is_singular());
     assert!(!sections::limacon(1.0, 0.4).unwrap().is_singular());
 }
@@ -55,7 +71,10 @@ fn clockwise_input_is_reversed_and_reported() {
     let ccw = sections::rectangle(1.0, 1.0).unwrap();
     assert!(ccw.notes.is_empty());
     // same J either way
-    let o = Options { n: 256, ..Options::default() };
+    let o = Options {
+        n: 256,
+        ..Options::default()
+    };
     let a = solve(&s, &o).unwrap().torsional_rigidity;
     let b = solve(&ccw, &o).unwrap().torsional_rigidity;
     assert!((a - b).abs() < 1e-13);
@@ -64,20 +83,56 @@ fn clockwise_input_is_reversed_and_reported() {
 #[test]
 fn invalid_geometry_gives_typed_errors() {
     // not closed
-    let e = Section::new("open", vec![Piece::Segment { a: [0.0, 0.0], b: [1.0, 0.0] }, Piece::Segment { a: [1.0, 0.0], b: [0.0, 1.0] }]).unwrap_err();
-    assert!(matches!(e, GeometryError::NotClosed { piece: 1, .. }), "{e:?}");
+    let e = Section::new(
+        "open",
+        vec![
+            Piece::Segment {
+                a: [0.0, 0.0],
+                b: [1.0, 0.0],
+            },
+            Piece::Segment {
+                a: [1.0, 0.0],
+                b: [0.0, 1.0],
+            },
+        ],
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, GeometryError::NotClosed { piece: 1, .. }),
+        "{e:?}"
+    );
     // self-intersecting bow tie
     let e = sections::polygon(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]).unwrap_err();
     assert!(matches!(e, GeometryError::SelfIntersecting { .. }), "{e:?}");
     // degenerate piece (repeated vertex)
     let e = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap_err();
-    assert!(matches!(e, GeometryError::Degenerate { piece: 1, .. }), "{e:?}");
+    assert!(
+        matches!(e, GeometryError::Degenerate { piece: 1, .. }),
+        "{e:?}"
+    );
     // collinear: zero area
     let e = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]).unwrap_err();
-    assert!(matches!(e, GeometryError::ZeroAngle { .. } | GeometryError::ZeroArea | GeometryError::SelfIntersecting { .. }), "{e:?}");
-    assert!(matches!(sections::polygon(&[[0.0, 0.0], [1.0, 0.0]]).unwrap_err(), GeometryError::TooFewVertices(2)));
-    assert!(matches!(sections::circle(-1.0).unwrap_err(), GeometryError::InvalidParameter { piece: 0 }));
-    assert!(matches!(sections::circle(f64::NAN).unwrap_err(), GeometryError::InvalidParameter { .. }));
+    assert!(
+        matches!(
+            e,
+            GeometryError::ZeroAngle { .. }
+                | GeometryError::ZeroArea
+                | GeometryError::SelfIntersecting { .. }
+        ),
+        "{e:?}"
+    );
+    assert!(matches!(
+        sections::polygon(&[[0.0, 0.0], [1.0, 0.0]]).unwrap_err(),
+        GeometryError::TooFewVertices(2)
+    ));
+    assert!(matches!(
+        sections::circle(-1.0).unwrap_err(),
+        GeometryError::InvalidParameter { piece: 0 }
+    ));
+    assert!(matches!(
+        sections::circle(f64::NAN).unwrap_err(),
+        GeometryError::InvalidParameter { .. }
+    ));
     assert!(sections::groove(1.0, 2.5).is_err());
     assert!(sections::limacon(1.0, 0.6).is_err());
 }
@@ -131,7 +186,11 @@ to = [0.0, 0.0]
     assert!(!s.is_singular());
     let v = parse_section_toml("vertices = [[0,0],[2,0],[2,1],[0,1]]", "v.toml").unwrap();
     assert!((v.area - 2.0).abs() < 1e-14);
-    let e = parse_section_toml("[[piece]]\nkind = \"arc\"\ncenter = [0,0]\nstart_deg = 0\nend_deg = 360\n", "bad.toml").unwrap_err();
+    let e = parse_section_toml(
+        "[[piece]]\nkind = \"arc\"\ncenter = [0,0]\nstart_deg = 0\nend_deg = 360\n",
+        "bad.toml",
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("piece[0].radius"), "{e}");
     let e = parse_section_toml("[[piece]]\nkind = \"spline\"\n", "bad.toml").unwrap_err();
     assert!(e.to_string().contains("piece[0].kind"), "{e}");
@@ -155,13 +214,19 @@ fn graded_nodes_keep_relative_precision_at_corners() {
     // and it is exactly w(s) times the side, s = ½ / (nodes in the first panel)
     let s = (0.5 / 1024.0) / (p.breaks[1] - p.breaks[0]);
     let (w, _, _) = tecon_wavelet_bem::grading::kress(s, 8.0);
-    assert!((d0 / w - 1.0).abs() < 1e-14, "offset {d0:e} vs w(s) = {w:e}");
+    assert!(
+        (d0 / w - 1.0).abs() < 1e-14,
+        "offset {d0:e} vs w(s) = {w:e}"
+    );
     // the last node (before the corner at t = 1) is anchored at the same corner, on the other side
     let last = &nodes[1023];
     assert_eq!(last.anchor, c0);
     let d = diff(first, last);
     let dd = d[0].hypot(d[1]);
-    assert!(dd > 0.0 && dd < 1e-18 && (dd - d0 * 2f64.sqrt()).abs() < 1e-14 * dd, "{dd:e}");
+    assert!(
+        dd > 0.0 && dd < 1e-18 && (dd - d0 * 2f64.sqrt()).abs() < 1e-14 * dd,
+        "{dd:e}"
+    );
     // speeds are positive everywhere (no node exactly on a corner)
     assert!(nodes.iter().all(|n| n.speed() > 0.0));
     // the graded map integrates the arc length: Σ |x′| / n = perimeter
@@ -173,11 +238,54 @@ fn graded_nodes_keep_relative_precision_at_corners() {
 fn solver_options_are_validated() {
     let sec = sections::circle(1.0).unwrap();
     let bad = |o: Options| solve(&sec, &o).unwrap_err();
-    assert!(matches!(bad(Options { n: 100, ..Options::default() }), SolveError::BadN { n: 100, .. }));
-    assert!(matches!(bad(Options { n: 32, ..Options::default() }), SolveError::BadN { .. }));
-    assert!(matches!(bad(Options { n: 4, ..Options::default() }), SolveError::BadN { .. }));
-    assert!(matches!(bad(Options { grading: 1.0, ..Options::default() }), SolveError::BadGrading(_)));
-    assert!(matches!(bad(Options { grading: 6.5, ..Options::default() }), SolveError::BadGrading(_)));
-    assert!(matches!(bad(Options { wavelet_order: 30, ..Options::default() }), SolveError::BadWavelet(_)));
-    assert!(matches!(bad(Options { n: 101, method: Method::Nystrom, ..Options::default() }), SolveError::BadN { .. }));
+    assert!(matches!(
+        bad(Options {
+            n: 100,
+            ..Options::default()
+        }),
+        SolveError::BadN { n: 100, .. }
+    ));
+    assert!(matches!(
+        bad(Options {
+            n: 32,
+            ..Options::default()
+        }),
+        SolveError::BadN { .. }
+    ));
+    assert!(matches!(
+        bad(Options {
+            n: 4,
+            ..Options::default()
+        }),
+        SolveError::BadN { .. }
+    ));
+    assert!(matches!(
+        bad(Options {
+            grading: 1.0,
+            ..Options::default()
+        }),
+        SolveError::BadGrading(_)
+    ));
+    assert!(matches!(
+        bad(Options {
+            grading: 6.5,
+            ..Options::default()
+        }),
+        SolveError::BadGrading(_)
+    ));
+    assert!(matches!(
+        bad(Options {
+            wavelet_order: 30,
+            ..Options::default()
+        }),
+        SolveError::BadWavelet(_)
+    ));
+    assert!(matches!(
+        bad(Options {
+            n: 101,
+            method: Method::Nystrom,
+            ..Options::default()
+        }),
+        SolveError::BadN { .. }
+    ));
 }

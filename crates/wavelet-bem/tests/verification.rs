@@ -27,7 +27,11 @@ use tecon_wavelet_bem::*;
 const METHODS: [Method; 3] = [Method::Daubechies, Method::Shannon, Method::Nystrom];
 
 fn run(sec: &Section, method: Method, n: usize) -> TorsionSolution {
-    let o = Options { n, method, ..Options::default() };
+    let o = Options {
+        n,
+        method,
+        ..Options::default()
+    };
     match solve(sec, &o) {
         Ok(s) => s,
         Err(e) => panic!("{method} n={n} on {}: {e}", sec.name),
@@ -45,10 +49,18 @@ fn circles_including_capacity_one() {
         let sec = sections::circle(r).unwrap();
         for m in METHODS {
             let s = run(&sec, m, 128);
-            assert!(rel(s.torsional_rigidity, ex.rigidity()) < 1e-13, "{m} R={r}: J {}", s.torsional_rigidity);
+            assert!(
+                rel(s.torsional_rigidity, ex.rigidity()) < 1e-13,
+                "{m} R={r}: J {}",
+                s.torsional_rigidity
+            );
             let t = s.max_shear();
             assert!(!t.singular);
-            assert!(rel(t.value.unwrap(), ex.max_shear()) < 1e-12, "{m} R={r}: τ {:?}", t.value);
+            assert!(
+                rel(t.value.unwrap(), ex.max_shear()) < 1e-12,
+                "{m} R={r}: τ {:?}",
+                t.value
+            );
             assert!(s.multiplier.abs() < 1e-13);
             for b in s.boundary_samples(64) {
                 assert!((b.q.abs() - r).abs() < 1e-12 * r);
@@ -73,9 +85,15 @@ fn ellipses_rigidity_max_shear_and_distribution() {
             // at the ends of the minor axis
             let at = t.at.unwrap();
             if a > b {
-                assert!(at[0].abs() < 1e-6 * a && (at[1].abs() - b).abs() < 1e-9, "{at:?}");
+                assert!(
+                    at[0].abs() < 1e-6 * a && (at[1].abs() - b).abs() < 1e-9,
+                    "{at:?}"
+                );
             } else {
-                assert!(at[1].abs() < 1e-6 * b && (at[0].abs() - a).abs() < 1e-9, "{at:?}");
+                assert!(
+                    at[1].abs() < 1e-6 * b && (at[0].abs() - a).abs() < 1e-9,
+                    "{at:?}"
+                );
             }
             let mut worst: f64 = 0.0;
             for smp in s.boundary_samples(200) {
@@ -101,7 +119,10 @@ fn ellipse_interior_stress_function_and_stresses() {
         let txz = -2.0 * k * y / (b * b);
         let tyz = 2.0 * k * x / (a * a);
         assert!((v.u - u).abs() < 1e-10, "u at {:?}: {} vs {u}", v.x, v.u);
-        assert!((v.tau_xz - txz).abs() < 1e-9 && (v.tau_yz - tyz).abs() < 1e-9, "{v:?}");
+        assert!(
+            (v.tau_xz - txz).abs() < 1e-9 && (v.tau_yz - tyz).abs() < 1e-9,
+            "{v:?}"
+        );
     }
 }
 
@@ -129,7 +150,10 @@ fn equilateral_triangle() {
         // |q| = √3 s (a − s)/a along every side
         let mut worst: f64 = 0.0;
         for smp in s.boundary_samples(600) {
-            let sdist = verts.iter().map(|v| (smp.x[0] - v[0]).hypot(smp.x[1] - v[1])).fold(f64::INFINITY, f64::min);
+            let sdist = verts
+                .iter()
+                .map(|v| (smp.x[0] - v[0]).hypot(smp.x[1] - v[1]))
+                .fold(f64::INFINITY, f64::min);
             worst = worst.max((smp.q.abs() - ex.shear_at(sdist)).abs());
         }
         assert!(worst < 1e-7, "{m}: |q| error {worst:e}");
@@ -145,19 +169,46 @@ fn square_and_rectangle() {
     assert!((ex.max_shear() - 0.675314483313568).abs() < 1e-15);
     for m in METHODS {
         let s = run(&sq, m, 512);
-        assert!(rel(s.torsional_rigidity, ex.rigidity()) < 1e-8, "{m}: J {}", s.torsional_rigidity);
+        assert!(
+            rel(s.torsional_rigidity, ex.rigidity()) < 1e-8,
+            "{m}: J {}",
+            s.torsional_rigidity
+        );
         let t = s.max_shear();
-        assert!(rel(t.value.unwrap(), ex.max_shear()) < 1e-8, "{m}: τ {:?}", t.value);
+        assert!(
+            rel(t.value.unwrap(), ex.max_shear()) < 1e-8,
+            "{m}: τ {:?}",
+            t.value
+        );
         // convex corners: τ → 0 there
-        let near_corner = s.boundary_samples(2048).iter().map(|b| (b.x[0].abs().max(b.x[1].abs()), b.x[0].abs().min(b.x[1].abs()), b.q)).filter(|(_, m, _)| *m > 0.499).map(|(_, _, q)| q.abs()).fold(0.0f64, f64::max);
+        let near_corner = s
+            .boundary_samples(2048)
+            .iter()
+            .map(|b| {
+                (
+                    b.x[0].abs().max(b.x[1].abs()),
+                    b.x[0].abs().min(b.x[1].abs()),
+                    b.q,
+                )
+            })
+            .filter(|(_, m, _)| *m > 0.499)
+            .map(|(_, _, q)| q.abs())
+            .fold(0.0f64, f64::max);
         assert!(near_corner < 1e-2, "{m}: |q| near a corner {near_corner}");
     }
     for (w, h) in [(1.0, 2.0), (3.0, 1.0)] {
         let ex = Rectangle { w, h };
         let sec = sections::rectangle(w, h).unwrap();
         let s = run(&sec, Method::Daubechies, 512);
-        assert!(rel(s.torsional_rigidity, ex.rigidity()) < 1e-8, "{w}x{h}: J {}", s.torsional_rigidity);
-        assert!(rel(s.max_shear().value.unwrap(), ex.max_shear()) < 1e-8, "{w}x{h}");
+        assert!(
+            rel(s.torsional_rigidity, ex.rigidity()) < 1e-8,
+            "{w}x{h}: J {}",
+            s.torsional_rigidity
+        );
+        assert!(
+            rel(s.max_shear().value.unwrap(), ex.max_shear()) < 1e-8,
+            "{w}x{h}"
+        );
     }
 }
 
@@ -168,18 +219,35 @@ fn limacon_and_cardioid() {
         let sec = sections::limacon(1.3, c).unwrap();
         for m in METHODS {
             let s = run(&sec, m, 256);
-            assert!(rel(s.torsional_rigidity, ex.rigidity()) < 1e-12, "{m} c={c}: J {}", s.torsional_rigidity);
+            assert!(
+                rel(s.torsional_rigidity, ex.rigidity()) < 1e-12,
+                "{m} c={c}: J {}",
+                s.torsional_rigidity
+            );
             let t = s.max_shear();
-            assert!(rel(t.value.unwrap(), ex.max_shear()) < 1e-11, "{m} c={c}: τ {:?} vs {}", t.value, ex.max_shear());
+            assert!(
+                rel(t.value.unwrap(), ex.max_shear()) < 1e-11,
+                "{m} c={c}: τ {:?} vs {}",
+                t.value,
+                ex.max_shear()
+            );
         }
     }
     // cardioid: inward cusp, J to 1e-6, τ reported singular at the cusp
     let ex = Limacon { a: 1.0, c: 0.5 };
     let sec = sections::limacon(1.0, 0.5).unwrap();
     assert!(sec.is_singular());
-    let o = Options { n: 512, grading: 4.0, ..Options::default() };
+    let o = Options {
+        n: 512,
+        grading: 4.0,
+        ..Options::default()
+    };
     let s = solve(&sec, &o).unwrap();
-    assert!(rel(s.torsional_rigidity, ex.rigidity()) < 1e-6, "cardioid J {}", s.torsional_rigidity);
+    assert!(
+        rel(s.torsional_rigidity, ex.rigidity()) < 1e-6,
+        "cardioid J {}",
+        s.torsional_rigidity
+    );
     let t = s.max_shear();
     assert!(t.singular && t.value.is_none());
     let at = t.at.unwrap();
@@ -194,9 +262,18 @@ fn grooved_shaft() {
     assert!(!sec.is_singular(), "the groove's corners are convex");
     for m in METHODS {
         let s = run(&sec, m, 512);
-        assert!(rel(s.torsional_rigidity, ex.rigidity()) < 1e-8, "{m}: J {} vs {}", s.torsional_rigidity, ex.rigidity());
+        assert!(
+            rel(s.torsional_rigidity, ex.rigidity()) < 1e-8,
+            "{m}: J {} vs {}",
+            s.torsional_rigidity,
+            ex.rigidity()
+        );
         let t = s.max_shear();
-        assert!(rel(t.value.unwrap(), ex.max_shear()) < 1e-8, "{m}: τ {:?}", t.value);
+        assert!(
+            rel(t.value.unwrap(), ex.max_shear()) < 1e-8,
+            "{m}: τ {:?}",
+            t.value
+        );
         let at = t.at.unwrap();
         assert!((at[0] - b).abs() < 1e-6 && at[1].abs() < 1e-4, "{at:?}");
         let mut worst: f64 = 0.0;
@@ -211,7 +288,15 @@ fn grooved_shaft() {
 #[test]
 fn reentrant_corner_is_singular() {
     // L-shape: one re-entrant corner at (1, 1)
-    let sec = sections::polygon(&[[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]]).unwrap();
+    let sec = sections::polygon(&[
+        [0.0, 0.0],
+        [2.0, 0.0],
+        [2.0, 1.0],
+        [1.0, 1.0],
+        [1.0, 2.0],
+        [0.0, 2.0],
+    ])
+    .unwrap();
     assert!(sec.is_singular());
     let s = run(&sec, Method::Daubechies, 256);
     let t = s.max_shear();
