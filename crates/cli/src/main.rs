@@ -1,15 +1,13 @@
 //! The `tecon` command.
 //!
 //! ```text
+//! tecon vessel                                  # the published welded-vessel case
 //! tecon mesh --preset paper --out tecon-out/mesh
 //! tecon torsion --section ellipse:a=2,b=1
 //! ```
 
-mod mesh_cmd;
-mod plot;
-mod torsion;
-
 use clap::{Parser, Subcommand};
+use tecon_cli::{mesh_cmd, torsion, vessel};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -24,6 +22,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// The welded monolayer vessel: cooling weld, thermoelastic contact, prestress.
+    Vessel(vessel::VesselArgs),
     /// Generate the welded-vessel mesh (or read a Gmsh file), validate it and write VTK.
     Mesh(mesh_cmd::MeshArgs),
     /// Saint-Venant torsion of a prismatic bar by the wavelet boundary integral method.
@@ -33,6 +33,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Vessel(args) => vessel::run(args),
         Command::Mesh(args) => mesh_cmd::run(args),
         Command::Torsion(args) => torsion::run(args),
     };

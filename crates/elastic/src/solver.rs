@@ -120,10 +120,15 @@ pub struct IncrementReport {
     pub fraction: f64,
     /// Newton iterations (summed over augmented-Lagrangian passes).
     pub iterations: usize,
+    /// Most Newton iterations of one pass (each augmented-Lagrangian update
+    /// starts a new pass from the converged state).
+    pub max_pass_iterations: usize,
     /// Augmented-Lagrangian updates made.
     pub augmentations: usize,
     /// Iteration history of the last Newton pass.
     pub history: Vec<IterationRecord>,
+    /// Failed attempts (and why) cut back before this increment converged.
+    pub cutbacks: Vec<String>,
 }
 
 /// Output of one interface integration point.
@@ -425,6 +430,7 @@ impl<'a> StaticSolver<'a> {
         let start = self.loads.clone();
         let mut s = 0.0;
         let mut ds = 1.0 / self.options.increments.max(1) as f64;
+        let mut cutbacks = Vec::new();
         let mut reports = Vec::new();
         while s < 1.0 - 1e-14 {
             let s_try = (s + ds).min(1.0);
@@ -438,12 +444,28 @@ impl<'a> StaticSolver<'a> {
                     self.states = states;
                     self.loads = loads;
                     s = s_try;
+                    report.cutbacks = std::mem::take(&mut cutbacks);
+                    // an easy increment lets the next one grow back
+                    if report.max_pass_iterations <= 4 && report.cutbacks.is_empty() {
+                        ds = (2.0 * ds).min(1.0 / self.options.increments.max(1) as f64);
+                    }
                     report.fraction = s;
                     reports.push(report);
                 }
                 Err(ElasticError::NotConverged {
                     reason, history, ..
                 }) => {
+                    let tail: Vec<String> = history
+                        .iter()
+                        .rev()
+                        .take(4)
+                        .rev()
+                        .map(|h| h.to_string())
+                        .collect();
+                    cutbacks.push(format!(
+                        "increment {ds:.3e} at fraction {s:.3}: {reason}; last iterations: {}",
+                        tail.join(" | ")
+                    ));
                     ds *= 0.5;
                     if ds < self.options.min_increment {
                         return Err(ElasticError::NotConverged {
@@ -609,11 +631,13 @@ impl<'a> StaticSolver<'a> {
         let f_ext = self.external_force(loads)?;
         let mut committed = self.states.clone();
         let mut total_iterations = 0;
+        let mut max_pass = 0;
         let mut augmentations = 0;
         let mut u = self.u.clone();
         loop {
             let (u_new, history) = self.newton(&f_ext, loads, &committed, u.clone())?;
             total_iterations += history.len();
+            max_pass = max_pass.max(history.len());
             u = u_new;
             let Some(tol) = self.options.augmented_lagrangian else {
                 let states = self.trial_states(&u, &committed);
@@ -624,7 +648,9 @@ impl<'a> StaticSolver<'a> {
                     IncrementReport {
                         fraction: 0.0,
                         iterations: total_iterations,
+                        max_pass_iterations: max_pass,
                         augmentations,
+                        cutbacks: Vec::new(),
                         history,
                     },
                 ));
@@ -679,7 +705,9 @@ impl<'a> StaticSolver<'a> {
                     IncrementReport {
                         fraction: 0.0,
                         iterations: total_iterations,
+                        max_pass_iterations: max_pass,
                         augmentations,
+                        cutbacks: Vec::new(),
                         history,
                     },
                 ));
@@ -703,6 +731,7 @@ impl<'a> StaticSolver<'a> {
         let mut prev: Option<Vec<ContactStatus>> = None;
         let mut prev2: Option<Vec<ContactStatus>> = None;
         let mut ping_pong = 0;
+        let mut short_steps = 0;
         // The force scale of this increment: the largest external or internal
         // force norm seen so far (the internal force alone can vanish, e.g.
         // when bodies separate and move rigidly).
@@ -779,6 +808,17 @@ impl<'a> StaticSolver<'a> {
                 step *= 0.5;
             }
             let step = if best.0.is_finite() { best.1 } else { 1.0 };
+            // Newton that only creeps (the line search keeps cutting) will not
+            // converge: give the increment back early so it can be cut.
+            short_steps = if step < 0.2 { short_steps + 1 } else { 0 };
+            if short_steps >= 4 {
+                return Err(ElasticError::NotConverged {
+                    fraction: 0.0,
+                    increment: 0.0,
+                    reason: "the line search keeps cutting the Newton step (stagnation)".into(),
+                    history,
+                });
+            }
             for (a, b) in u.iter_mut().zip(&du) {
                 *a += step * b;
             }

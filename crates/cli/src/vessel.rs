@@ -1,0 +1,1279 @@
+//! `tecon vessel`: the welded monolayer vessel of the first seed paper, end
+//! to end: mesh → transient heat conduction of the cooling weld → plane-strain
+//! thermoelastic contact at every output time → prestress, compared with the
+//! analytical two-cylinder shrink fit.
+//!
+//! ```text
+//! tecon vessel                                  # published case, default mesh
+//! tecon vessel --mesh paper --out out/paper     # the published 108-node mesh
+//! tecon vessel --pressure 10e6                  # operating hoop stress with and without prestress
+//! tecon vessel --study mesh                     # mesh convergence
+//! ```
+
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::{Value, json};
+use tecon_contact::{GhaboussiNormal, PaperJoint};
+use tecon_elastic::analytical::{Cylinders, ShrinkFit};
+use tecon_elastic::{
+    Analysis, ElasticModel, InterfacePointResult, Joint, Loads, Material, SolverOptions,
+    StaticSolver, StressField, polar, von_mises,
+};
+use tecon_mesh::vtk::{Field, VtuPiece, write_pvd, write_vtu};
+use tecon_mesh::{Mesh, VesselGeometry, VesselMeshSpec, vessel_mesh};
+use tecon_thermal::{EdgeBc, Snapshot, ThermalModel, ThetaScheme, TimeSchedule};
+
+use crate::plot::{LinePlot, Series};
+
+/// Boxed error of the command layer.
+pub type CliResult<T> = Result<T, Box<dyn std::error::Error + Send + Sync>>;
+
+/// Material and process data of the published case (SI units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VesselData {
+    /// Density ρ, kg/m³.
+    pub density: f64,
+    /// Specific heat c, J/(kg K).
+    pub specific_heat: f64,
+    /// Conductivity k, W/(m K).
+    pub conductivity: f64,
+    /// Thermal expansion α, 1/K.
+    pub expansion: f64,
+    /// Young's modulus E, Pa.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν.
+    pub poisson_ratio: f64,
+    /// Initial weld temperature, °C.
+    pub weld_temperature: f64,
+    /// Ambient and initial temperature of the rest, °C.
+    pub ambient: f64,
+    /// Film coefficient on the inner and outer surfaces, W/(m² K).
+    pub film: f64,
+    /// Interface conductance core/layer, W/(m² K).
+    pub interface_conductance: f64,
+}
+
+impl Default for VesselData {
+    fn default() -> Self {
+        VesselData {
+            density: 7832.0,
+            specific_heat: 434.0,
+            conductivity: 63.9,
+            expansion: 12.51e-6,
+            youngs_modulus: 207e9,
+            poisson_ratio: 0.3,
+            weld_temperature: 1132.0,
+            ambient: 21.0,
+            film: 10.25,
+            interface_conductance: 850.0,
+        }
+    }
+}
+
+/// Everything a vessel run needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VesselOptions {
+    /// Geometry.
+    pub geometry: VesselGeometry,
+    /// Mesh density.
+    pub mesh: VesselMeshSpec,
+    /// Material and process data.
+    pub data: VesselData,
+    /// Friction coefficient μ = tan φ of the core/layer joint.
+    pub friction: f64,
+    /// Cohesion c of the joint, Pa.
+    pub cohesion: f64,
+    /// Joint penalty factor β (k_n = β E / h, h the radial element size at the interface).
+    pub penalty_factor: f64,
+    /// Augmented-Lagrangian tolerance (None: pure penalty).
+    pub augmented_lagrangian: Option<f64>,
+    /// Internal (operating) pressure applied after cooling, Pa.
+    pub pressure: Option<f64>,
+    /// Output times of the transient, s (the last is the end of cooling).
+    pub times: Vec<f64>,
+    /// Plane strain (default) or generalised plane strain.
+    pub analysis: Analysis,
+    /// Quiet: no progress bar.
+    pub quiet: bool,
+    /// Print the Newton iteration history of every increment to stderr.
+    pub verbose: bool,
+}
+
+impl Default for VesselOptions {
+    fn default() -> Self {
+        VesselOptions {
+            geometry: VesselGeometry::default(),
+            mesh: default_mesh(),
+            data: VesselData::default(),
+            friction: 0.3,
+            cohesion: 0.0,
+            penalty_factor: tecon_contact::DEFAULT_PENALTY_FACTOR,
+            augmented_lagrangian: Some(1e-4),
+            pressure: None,
+            times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
+            analysis: Analysis::PlaneStrain,
+            quiet: false,
+            verbose: false,
+        }
+    }
+}
+
+/// The default mesh: refinement level 3 (8704 triangles).
+pub fn default_mesh() -> VesselMeshSpec {
+    // level 3 is a valid level
+    VesselMeshSpec::refined(3).unwrap_or_else(|_| VesselMeshSpec::paper())
+}
+
+/// Results at one time.
+#[derive(Debug, Clone)]
+pub struct TimeResult {
+    /// Time, s.
+    pub time: f64,
+    /// Thermal snapshot.
+    pub thermal: Snapshot,
+    /// Displacements (2 per node).
+    pub displacement: Vec<f64>,
+    /// Stresses.
+    pub stress: StressField,
+    /// Interface points.
+    pub interface: Vec<InterfacePointResult>,
+    /// Most Newton iterations of one pass in any increment.
+    pub max_iterations: usize,
+    /// Most augmented-Lagrangian updates in any increment.
+    pub max_augmentations: usize,
+}
+
+/// A finished vessel run.
+#[derive(Debug)]
+pub struct VesselRun {
+    /// The options it ran with.
+    pub options: VesselOptions,
+    /// The mesh.
+    pub mesh: Mesh,
+    /// One result per output time; the last is the cooled state.
+    pub results: Vec<TimeResult>,
+    /// Operating state with the weld prestress (if a pressure was asked for).
+    pub operating: Option<(StressField, Vec<f64>)>,
+    /// Operating state without prestress (pressure alone).
+    pub pressure_only: Option<(StressField, Vec<f64>)>,
+    /// Largest relative heat-balance residual of the transient.
+    pub heat_balance: f64,
+    /// Thermal time steps.
+    pub thermal_steps: usize,
+    /// Notes from the solvers.
+    pub notes: Vec<String>,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+}
+
+/// Cooling schedule: steps growing from 0.02 s near the start to 1000 s.
+pub fn schedule(end: f64) -> CliResult<TimeSchedule> {
+    let mut seg: Vec<(f64, f64)> = Vec::new();
+    for (t, dt) in [
+        (1.0, 0.02),
+        (10.0, 0.2),
+        (100.0, 2.0),
+        (1000.0, 20.0),
+        (10000.0, 200.0),
+        (f64::INFINITY, 1000.0),
+    ] {
+        let t_end = t.min(end);
+        if seg.last().is_none_or(|s| s.0 < t_end) {
+            seg.push((t_end, dt));
+        }
+        if t >= end {
+            break;
+        }
+    }
+    Ok(TimeSchedule::segments(&seg)?)
+}
+
+/// The coupling parameter δ = (3λ + 2μ)² α² T₀ / ((λ + 2μ) ρ c) at absolute temperature T₀ (K).
+pub fn coupling_delta(d: &VesselData, t0_kelvin: f64) -> f64 {
+    let m = Material {
+        youngs_modulus: d.youngs_modulus,
+        poisson_ratio: d.poisson_ratio,
+        expansion: d.expansion,
+    };
+    let (l, mu) = (m.lambda(), m.mu());
+    (3.0 * l + 2.0 * mu).powi(2) * d.expansion.powi(2) * t0_kelvin
+        / ((l + 2.0 * mu) * d.density * d.specific_heat)
+}
+
+fn progress(len: u64, quiet: bool) -> ProgressBar {
+    let target = if quiet {
+        ProgressDrawTarget::hidden()
+    } else {
+        ProgressDrawTarget::stderr()
+    };
+    let pb = ProgressBar::with_draw_target(Some(len), target);
+    if let Ok(style) =
+        ProgressStyle::with_template("{spinner} {msg:40} [{bar:30}] {pos}/{len} {elapsed}")
+    {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb
+}
+
+/// Runs the whole analysis (no files written).
+pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
+    let start = std::time::Instant::now();
+    let o = options;
+    let d = &o.data;
+    if !(o.friction.is_finite() && o.friction >= 0.0) {
+        return Err(format!(
+            "--friction {}: must be a non-negative coefficient",
+            o.friction
+        )
+        .into());
+    }
+    if !(o.cohesion.is_finite() && o.cohesion >= 0.0) {
+        return Err(format!("--cohesion {}: must be non-negative (Pa)", o.cohesion).into());
+    }
+    let mut times = o.times.clone();
+    if times.is_empty() || times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
+        return Err("--times: give positive output times in seconds".into());
+    }
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    let end = *times.last().unwrap_or(&72000.0);
+    let mesh = vessel_mesh(&o.geometry, &o.mesh)?;
+
+    // Heat conduction.
+    let mut thermal = ThermalModel::new(&mesh);
+    thermal.set_material_everywhere(tecon_thermal::Material::new(
+        d.conductivity,
+        d.density,
+        d.specific_heat,
+    ))?;
+    thermal.add_edge_bc("inner", EdgeBc::convection(d.film, d.ambient))?;
+    thermal.add_edge_bc("outer", EdgeBc::convection(d.film, d.ambient))?;
+    if mesh.interfaces().contains_key("core_layer") {
+        thermal.set_interface_conductance("core_layer", d.interface_conductance)?;
+    }
+    thermal
+        .set_initial_default(d.ambient)?
+        .set_initial_region("weld", d.weld_temperature)?;
+    let system = thermal.assemble()?;
+    let t_ref = system
+        .reference_temperature()
+        .ok_or("the thermal model has no initial temperature")?
+        .to_vec();
+    let pb = progress(times.len() as u64 * 2 + 1, o.quiet);
+    pb.set_message("heat conduction");
+    let mut snaps: Vec<Snapshot> = Vec::new();
+    let summary = tecon_thermal::run_transient(
+        &system,
+        &schedule(end)?,
+        ThetaScheme::crank_nicolson(),
+        &times,
+        |s| {
+            snaps.push(s.clone());
+            pb.inc(1);
+        },
+    )?;
+
+    // Thermoelastic contact.
+    let mat = Material {
+        youngs_modulus: d.youngs_modulus,
+        poisson_ratio: d.poisson_ratio,
+        expansion: d.expansion,
+    };
+    let h = o.geometry.layer_thickness / o.mesh.layer_rows as f64;
+    let k_n = o.penalty_factor * d.youngs_modulus / h;
+    let law = PaperJoint::new(
+        GhaboussiNormal::penalty(k_n)?,
+        k_n,
+        o.cohesion,
+        o.friction.atan(),
+    )?;
+    let mut model = ElasticModel::new(&mesh, o.analysis)
+        .material_everywhere(mat)?
+        .symmetry("sym0")?
+        .symmetry("sym180")?
+        .remove_free_translations(true);
+    if mesh.interfaces().contains_key("core_layer") {
+        model = model.interface("core_layer", Joint::Frictional(law))?;
+    }
+    if let Some(p) = o.pressure {
+        model = model.pressure("inner", p)?;
+    }
+    let opts = SolverOptions {
+        augmented_lagrangian: o.augmented_lagrangian,
+        ..Default::default()
+    };
+    let mut solver = StaticSolver::new(&model, opts)?;
+    let mut results = Vec::new();
+    for s in snaps {
+        pb.set_message(format!("contact at t = {:.0} s", s.time));
+        let delta_t: Vec<f64> = s
+            .element_temperature
+            .iter()
+            .zip(&t_ref)
+            .map(|(t, r)| t - r)
+            .collect();
+        let reports = solver.advance(&Loads {
+            delta_t,
+            ..Loads::zero()
+        })?;
+        if o.verbose {
+            for r in &reports {
+                pb.suspend(|| {
+                    eprintln!(
+                        "t = {} s, load fraction {:.3}: {} Newton iterations, {} multiplier updates; last pass:",
+                        s.time, r.fraction, r.iterations, r.augmentations
+                    );
+                    for c in &r.cutbacks {
+                        eprintln!("  cut back: {c}");
+                    }
+                    for h in &r.history {
+                        eprintln!("  {h}");
+                    }
+                });
+            }
+        }
+        results.push(TimeResult {
+            time: s.time,
+            displacement: solver.displacement().to_vec(),
+            stress: solver.stresses(),
+            interface: solver.interface_results(),
+            max_iterations: reports
+                .iter()
+                .map(|r| r.max_pass_iterations)
+                .max()
+                .unwrap_or(0),
+            max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
+            thermal: s,
+        });
+        pb.inc(1);
+    }
+    let mut operating = None;
+    let mut pressure_only = None;
+    if o.pressure.is_some() {
+        pb.set_message("operating pressure");
+        let mut l = solver.loads().clone();
+        l.pressure = 1.0;
+        solver.advance(&l)?;
+        operating = Some((solver.stresses(), solver.displacement().to_vec()));
+        let mut alone = StaticSolver::new(&model, opts)?;
+        alone.advance(&Loads {
+            pressure: 1.0,
+            ..Loads::zero()
+        })?;
+        pressure_only = Some((alone.stresses(), alone.displacement().to_vec()));
+    }
+    pb.inc(1);
+    pb.finish_and_clear();
+    let notes = solver.notes().to_vec();
+    Ok(VesselRun {
+        options: o.clone(),
+        mesh,
+        results,
+        operating,
+        pressure_only,
+        heat_balance: summary_residual(&summary),
+        thermal_steps: summary_steps(&summary),
+        notes,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn summary_residual(s: &tecon_thermal::TransientSummary) -> f64 {
+    s.max_balance_residual
+}
+
+fn summary_steps(s: &tecon_thermal::TransientSummary) -> usize {
+    s.steps
+}
+
+/// Polar coordinates (r, θ) of a point.
+fn r_theta(p: [f64; 2]) -> (f64, f64) {
+    ((p[0] * p[0] + p[1] * p[1]).sqrt(), p[1].atan2(p[0]))
+}
+
+/// Nodes of one body on the circle of radius `r`, sorted by θ.
+fn ring_nodes(mesh: &Mesh, body: usize, r: f64) -> Vec<usize> {
+    let tol = 1e-9 * r;
+    let mut v: Vec<usize> = (0..mesh.n_nodes())
+        .filter(|&i| mesh.node_bodies()[i] == body && (r_theta(mesh.nodes()[i]).0 - r).abs() < tol)
+        .collect();
+    v.sort_by(|&a, &b| {
+        r_theta(mesh.nodes()[a])
+            .1
+            .total_cmp(&r_theta(mesh.nodes()[b]).1)
+    });
+    v
+}
+
+/// Body index of the core and of the layer (the same when the weld is fused).
+fn bodies(mesh: &Mesh) -> (usize, usize) {
+    let core = mesh
+        .bodies()
+        .iter()
+        .position(|b| b.name.split('+').any(|n| n == "core"))
+        .unwrap_or(0);
+    let layer = mesh
+        .bodies()
+        .iter()
+        .position(|b| b.name.split('+').any(|n| n == "layer"))
+        .unwrap_or(0);
+    (core, layer)
+}
+
+/// Radii of the node rows of each body: (body, r) from the inner surface out.
+fn rows(o: &VesselOptions) -> Vec<(bool, f64)> {
+    let g = &o.geometry;
+    let (ri, rc, ro) = (g.inner_radius, g.interface_radius(), g.outer_radius());
+    let mut v: Vec<(bool, f64)> = (0..=o.mesh.core_rows)
+        .map(|j| (true, ri + (rc - ri) * j as f64 / o.mesh.core_rows as f64))
+        .collect();
+    v.extend(
+        (0..=o.mesh.layer_rows)
+            .map(|j| (false, rc + (ro - rc) * j as f64 / o.mesh.layer_rows as f64)),
+    );
+    v
+}
+
+/// Trapezoid mean over θ ∈ [0, π] of a nodal quantity on a ring of nodes.
+fn ring_mean(mesh: &Mesh, nodes: &[usize], f: &dyn Fn(usize) -> f64) -> f64 {
+    let mut s = 0.0;
+    let mut w = 0.0;
+    for k in 1..nodes.len() {
+        let (a, b) = (nodes[k - 1], nodes[k]);
+        let dt = r_theta(mesh.nodes()[b]).1 - r_theta(mesh.nodes()[a]).1;
+        s += 0.5 * dt * (f(a) + f(b));
+        w += dt;
+    }
+    if w > 0.0 { s / w } else { f64::NAN }
+}
+
+fn hoop(mesh: &Mesh, s: &StressField, i: usize) -> f64 {
+    polar(s.nodal[i], mesh.nodes()[i], [0.0, 0.0])[1]
+}
+
+/// Circumferential mean of σ_θθ on every node row: (wall %, is core, r, mean).
+pub fn hoop_profile(run: &VesselRun, s: &StressField) -> Vec<(f64, bool, f64, f64)> {
+    let (core, layer) = bodies(&run.mesh);
+    let g = &run.options.geometry;
+    let (ri, ro) = (g.inner_radius, g.outer_radius());
+    rows(&run.options)
+        .into_iter()
+        .map(|(is_core, r)| {
+            let nodes = ring_nodes(&run.mesh, if is_core { core } else { layer }, r);
+            let m = ring_mean(&run.mesh, &nodes, &|i| hoop(&run.mesh, s, i));
+            (100.0 * (r - ri) / (ro - ri), is_core, r, m)
+        })
+        .collect()
+}
+
+/// ∫ σ̄_θθ dr through the wall (trapezoid per body), N/m, and ∫ |σ̄_θθ| dr.
+fn hoop_force(profile: &[(f64, bool, f64, f64)]) -> (f64, f64) {
+    let (mut f, mut fa) = (0.0, 0.0);
+    for w in profile.windows(2) {
+        if w[0].1 == w[1].1 {
+            let dr = w[1].2 - w[0].2;
+            f += 0.5 * dr * (w[0].3 + w[1].3);
+            fa += 0.5 * dr * (w[0].3.abs() + w[1].3.abs());
+        }
+    }
+    (f, fa)
+}
+
+/// The two analytical shrink-fit variants of DESIGN.md §2 and the issue's
+/// (interference α ΔT w / 2π in plane strain).
+pub fn analytical(o: &VesselOptions) -> [(&'static str, ShrinkFit); 3] {
+    let g = &o.geometry;
+    let d = &o.data;
+    let dt = d.weld_temperature - d.ambient;
+    let w = 2.0 * g.weld_half_width;
+    let base = ShrinkFit {
+        a: g.inner_radius,
+        c: g.interface_radius(),
+        b: g.outer_radius(),
+        delta: d.expansion * dt * w / (2.0 * PI),
+        e: d.youngs_modulus,
+        nu: d.poisson_ratio,
+        state: Cylinders::PlaneStrain,
+    };
+    [
+        ("plane_strain", base),
+        (
+            "plane_stress_classical",
+            ShrinkFit {
+                state: Cylinders::PlaneStress,
+                ..base
+            },
+        ),
+        (
+            "plane_strain_consistent",
+            ShrinkFit {
+                delta: (1.0 + d.poisson_ratio) * base.delta,
+                ..base
+            },
+        ),
+    ]
+}
+
+/// Arc-length weighted mean contact pressure over the interface (open points count as 0).
+fn contact_pressure_mean(points: &[InterfacePointResult]) -> f64 {
+    // two points per element; nodal rule: equal weights within an element, weight by element length
+    let mut s = 0.0;
+    let mut w = 0.0;
+    for pair in points.chunks(2) {
+        if pair.len() < 2 {
+            continue;
+        }
+        let (a, b) = (pair[0].position, pair[1].position);
+        let len = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+        s += 0.5 * len * (-pair[0].traction[1] - pair[1].traction[1]);
+        w += len;
+    }
+    if w > 0.0 { s / w } else { 0.0 }
+}
+
+/// The summary as JSON (SI units).
+pub fn summary(run: &VesselRun) -> Value {
+    let last = run.results.last();
+    let (core, layer) = bodies(&run.mesh);
+    let g = &run.options.geometry;
+    let mean_at = |s: &StressField, body: usize, r: f64| {
+        ring_mean(&run.mesh, &ring_nodes(&run.mesh, body, r), &|i| {
+            hoop(&run.mesh, s, i)
+        })
+    };
+    let hoop_keys = |s: &StressField| {
+        json!({
+            "core_inner": mean_at(s, core, g.inner_radius),
+            "core_outer": mean_at(s, core, g.interface_radius()),
+            "layer_inner": mean_at(s, layer, g.interface_radius()),
+            "layer_outer": mean_at(s, layer, g.outer_radius()),
+        })
+    };
+    let an = analytical(&run.options);
+    let an_json = |f: &ShrinkFit| {
+        json!({
+            "interference": f.delta,
+            "contact_pressure": f.pressure(),
+            "hoop": {
+                "core_inner": f.sigma_tt(f.a, true),
+                "core_outer": f.sigma_tt(f.c, true),
+                "layer_inner": f.sigma_tt(f.c, false),
+                "layer_outer": f.sigma_tt(f.b, false),
+            }
+        })
+    };
+    let mut v = json!({
+        "mesh": {
+            "nodes": run.mesh.n_nodes(),
+            "triangles": run.mesh.n_triangles(),
+            "interface_elements": run.mesh.interfaces().values().map(|i| i.elements.len()).sum::<usize>(),
+            "core_rows": run.options.mesh.core_rows,
+            "layer_rows": run.options.mesh.layer_rows,
+            "stations": run.options.mesh.stations,
+        },
+        "analytical": an_json(&an[0].1),
+        "analytical_variants": {
+            "plane_stress_classical": an_json(&an[1].1),
+            "plane_strain_consistent": an_json(&an[2].1),
+        },
+        "thermal": {
+            "heat_balance_max_rel_error": run.heat_balance,
+            "steps": run.thermal_steps,
+            "output_times": run.results.iter().map(|r| r.time).collect::<Vec<_>>(),
+        },
+        "coupling_delta": coupling_delta(&run.options.data, run.options.data.ambient + 273.15),
+        "coupling_delta_at_weld_temperature": coupling_delta(&run.options.data, run.options.data.weld_temperature + 273.15),
+        "newton": {
+            "max_iterations_per_increment": run.results.iter().map(|r| r.max_iterations).max().unwrap_or(0),
+            "max_augmentations_per_increment": run.results.iter().map(|r| r.max_augmentations).max().unwrap_or(0),
+        },
+        "joint": {
+            "friction": run.options.friction,
+            "cohesion": run.options.cohesion,
+            "penalty_factor": run.options.penalty_factor,
+            "augmented_lagrangian": run.options.augmented_lagrangian,
+        },
+        "notes": run.notes,
+        "seconds": run.seconds,
+    });
+    if let Some(last) = last {
+        let profile = hoop_profile(run, &last.stress);
+        let (f, fa) = hoop_force(&profile);
+        let open = last
+            .interface
+            .iter()
+            .filter(|p| p.status == tecon_contact::ContactStatus::Open)
+            .count();
+        let slip = last
+            .interface
+            .iter()
+            .filter(|p| p.status == tecon_contact::ContactStatus::Slip)
+            .count();
+        v["final"] = json!({
+            "time": last.time,
+            "hoop_mean": hoop_keys(&last.stress),
+            "contact_pressure_mean": contact_pressure_mean(&last.interface),
+            "hoop_force_balance": f,
+            "hoop_force_balance_relative": if fa > 0.0 { f / fa } else { 0.0 },
+            "interface_points": { "open": open, "slip": slip, "total": last.interface.len() },
+            "max_temperature_change": last.thermal.temperature.iter().map(|t| (t - run.options.data.ambient).abs()).fold(0.0, f64::max),
+        });
+    }
+    if let (Some((op, _)), Some((alone, _)), Some(p)) =
+        (&run.operating, &run.pressure_only, run.options.pressure)
+    {
+        v["operating"] = json!({
+            "pressure": p,
+            "hoop_mean_with_prestress": hoop_keys(op),
+            "hoop_mean_pressure_only": hoop_keys(alone),
+        });
+    }
+    v
+}
+
+/// Prints the human-readable report.
+pub fn report(run: &VesselRun, v: &Value) -> String {
+    let f = |k: &str| v.pointer(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
+    let mut s = String::new();
+    s += &format!(
+        "mesh: {} nodes, {} triangles, {} interface elements\n",
+        run.mesh.n_nodes(),
+        run.mesh.n_triangles(),
+        run.mesh
+            .interfaces()
+            .values()
+            .map(|i| i.elements.len())
+            .sum::<usize>()
+    );
+    s += &format!(
+        "heat conduction: {} steps to t = {:.0} s, heat balance residual ≤ {:.1e}\n",
+        run.thermal_steps,
+        run.results.last().map_or(0.0, |r| r.time),
+        run.heat_balance
+    );
+    let delta = f("/coupling_delta");
+    s += &format!(
+        "coupling parameter δ = {delta:.4} at ambient ({:.3} at the weld temperature): δ ≪ 1, so neglecting the thermoelastic coupling term is justified\n",
+        f("/coupling_delta_at_weld_temperature")
+    );
+    s += "final prestress (circumferential mean of σ_θθ, MPa):      FE   analytical(δ=αΔTw/2π, plane strain)\n";
+    for (k, label) in [
+        ("core_inner", "core inner"),
+        ("core_outer", "core outer"),
+        ("layer_inner", "layer inner"),
+        ("layer_outer", "layer outer"),
+    ] {
+        s += &format!(
+            "  {label:<12} {:>10.2} {:>10.2}\n",
+            f(&format!("/final/hoop_mean/{k}")) / 1e6,
+            f(&format!("/analytical/hoop/{k}")) / 1e6
+        );
+    }
+    s += &format!(
+        "contact pressure mean: FE {:.3} MPa, analytical {:.3} MPa (variants: plane stress {:.3}, plane-strain consistent {:.3})\n",
+        f("/final/contact_pressure_mean") / 1e6,
+        f("/analytical/contact_pressure") / 1e6,
+        f("/analytical_variants/plane_stress_classical/contact_pressure") / 1e6,
+        f("/analytical_variants/plane_strain_consistent/contact_pressure") / 1e6
+    );
+    s += &format!(
+        "net hoop force of the half section: {:.3e} N/m ({:.2e} of ∫|σ_θθ| dr)\n",
+        f("/final/hoop_force_balance"),
+        f("/final/hoop_force_balance_relative")
+    );
+    let ratio_ps = f("/analytical_variants/plane_strain_consistent/contact_pressure")
+        / f("/analytical_variants/plane_stress_classical/contact_pressure");
+    s += &format!(
+        "the plane-strain consistent model gives {:.0} % more pressure than the classical plane-stress one (the paper's FE was ~50 % above its analytical values)\n",
+        100.0 * (ratio_ps - 1.0)
+    );
+    s += &format!(
+        "Newton: at most {} iterations per increment (per augmented-Lagrangian pass; at most {} multiplier updates)\n",
+        v["newton"]["max_iterations_per_increment"], v["newton"]["max_augmentations_per_increment"]
+    );
+    for n in &run.notes {
+        s += &format!("note: {n}\n");
+    }
+    s
+}
+
+fn csv(path: &Path, header: &str, rows: impl IntoIterator<Item = Vec<f64>>) -> CliResult<()> {
+    let mut s = String::from(header);
+    s.push('\n');
+    for r in rows {
+        let line: Vec<String> = r.iter().map(|v| format!("{v:.9e}")).collect();
+        s += &line.join(",");
+        s.push('\n');
+    }
+    std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(())
+}
+
+fn plot(
+    dir: &Path,
+    name: &str,
+    title: &str,
+    x: &str,
+    y: &str,
+    series: Vec<Series>,
+) -> CliResult<()> {
+    LinePlot {
+        title: title.into(),
+        x_label: x.into(),
+        y_label: y.into(),
+        series,
+    }
+    .write_svg_png(&dir.join(name))?;
+    Ok(())
+}
+
+/// Writes CSVs, plots, VTK and summary.json into `dir`.
+pub fn write_outputs(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<()> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mesh = &run.mesh;
+    let g = &run.options.geometry;
+    let (core, layer) = bodies(mesh);
+    let deg = |i: usize| r_theta(mesh.nodes()[i]).1.to_degrees();
+    let (Some(last), Some(_)) = (run.results.last(), run.results.first()) else {
+        return Err("no results to write".into());
+    };
+
+    // Fig. 6: temperature around the layer's inner and outer surfaces.
+    let l_in = ring_nodes(mesh, layer, g.interface_radius());
+    let l_out = ring_nodes(mesh, layer, g.outer_radius());
+    let mut rows6 = Vec::new();
+    let mut series6 = Vec::new();
+    for r in &run.results {
+        for (label, nodes) in [("inner", &l_in), ("outer", &l_out)] {
+            series6.push(Series {
+                label: format!("layer {label}, t = {} s", r.time),
+                points: nodes
+                    .iter()
+                    .map(|&i| (deg(i), r.thermal.temperature[i]))
+                    .collect(),
+            });
+        }
+        for (&a, &b) in l_in.iter().zip(&l_out) {
+            rows6.push(vec![
+                r.time,
+                deg(a),
+                r.thermal.temperature[a],
+                r.thermal.temperature[b],
+            ]);
+        }
+    }
+    csv(
+        &dir.join("fig6_temperature_circumference.csv"),
+        "time_s,theta_deg,T_layer_inner_C,T_layer_outer_C",
+        rows6,
+    )?;
+    plot(
+        dir,
+        "fig6_temperature_circumference",
+        "Temperature around the layer",
+        "θ from the weld centre [°]",
+        "T [°C]",
+        series6,
+    )?;
+
+    // Fig. 7: temperature through the wall at several angles.
+    let angles = [0.0, 2.0, 10.0, 45.0, 180.0];
+    let all_rows = rows(&run.options);
+    let mut rows7 = Vec::new();
+    let mut series7 = Vec::new();
+    let early = &run.results[0];
+    for &a in &angles {
+        let mut pts = Vec::new();
+        for &(is_core, r) in &all_rows {
+            let nodes = ring_nodes(mesh, if is_core { core } else { layer }, r);
+            if let Some(&i) = nodes
+                .iter()
+                .min_by(|&&p, &&q| (deg(p) - a).abs().total_cmp(&(deg(q) - a).abs()))
+            {
+                let wall = 100.0 * (r - g.inner_radius) / (g.outer_radius() - g.inner_radius);
+                for res in &run.results {
+                    rows7.push(vec![res.time, deg(i), wall, res.thermal.temperature[i]]);
+                }
+                pts.push((wall, early.thermal.temperature[i]));
+            }
+        }
+        series7.push(Series {
+            label: format!("θ ≈ {a}°, t = {} s", early.time),
+            points: pts,
+        });
+    }
+    csv(
+        &dir.join("fig7_temperature_through_wall.csv"),
+        "time_s,theta_deg,wall_percent,T_C",
+        rows7,
+    )?;
+    plot(
+        dir,
+        "fig7_temperature_through_wall",
+        "Temperature through the wall",
+        "position through the wall [% of thickness, core 0–67 %]",
+        "T [°C]",
+        series7,
+    )?;
+
+    // Fig. 8 and 11: circumferential mean hoop stress through the wall, FE and analytical.
+    let profile = hoop_profile(run, &last.stress);
+    let an = analytical(&run.options);
+    let wall = |r: f64| 100.0 * (r - g.inner_radius) / (g.outer_radius() - g.inner_radius);
+    csv(
+        &dir.join("fig8_hoop_prestress_through_wall.csv"),
+        "wall_percent,is_core,r_m,hoop_mean_Pa,analytical_plane_strain_Pa,analytical_plane_stress_Pa,analytical_plane_strain_consistent_Pa",
+        profile.iter().map(|&(w, c, r, m)| {
+            vec![
+                w,
+                f64::from(u8::from(c)),
+                r,
+                m,
+                an[0].1.sigma_tt(r, c),
+                an[1].1.sigma_tt(r, c),
+                an[2].1.sigma_tt(r, c),
+            ]
+        }),
+    )?;
+    let split = |pred: bool| {
+        profile
+            .iter()
+            .filter(|p| p.1 == pred)
+            .map(|p| (p.0, p.3 / 1e6))
+            .collect::<Vec<_>>()
+    };
+    plot(
+        dir,
+        "fig8_hoop_prestress_through_wall",
+        "Hoop prestress through the wall (circumferential mean)",
+        "position through the wall [% of thickness, core 0–67 %]",
+        "σ_θθ [MPa]",
+        vec![
+            Series {
+                label: "core (FE)".into(),
+                points: split(true),
+            },
+            Series {
+                label: "layer (FE)".into(),
+                points: split(false),
+            },
+        ],
+    )?;
+    let mut series11 = vec![
+        Series {
+            label: "FE core".into(),
+            points: split(true),
+        },
+        Series {
+            label: "FE layer".into(),
+            points: split(false),
+        },
+    ];
+    for (name, f) in &an {
+        for in_core in [true, false] {
+            let (r0, r1) = if in_core { (f.a, f.c) } else { (f.c, f.b) };
+            series11.push(Series {
+                label: format!(
+                    "analytical {} ({})",
+                    name.replace('_', " "),
+                    if in_core { "core" } else { "layer" }
+                ),
+                points: (0..=20)
+                    .map(|k| r0 + (r1 - r0) * k as f64 / 20.0)
+                    .map(|r| (wall(r), f.sigma_tt(r, in_core) / 1e6))
+                    .collect(),
+            });
+        }
+    }
+    plot(
+        dir,
+        "fig11_hoop_fe_vs_analytical",
+        "Hoop prestress: FE against the shrink-fit model",
+        "position through the wall [% of thickness, core 0–67 %]",
+        "σ_θθ [MPa]",
+        series11,
+    )?;
+
+    // Fig. 9: hoop stress around the circumference at the inner and outer surfaces.
+    let c_in = ring_nodes(mesh, core, g.inner_radius);
+    let hoop_at = |s: &StressField, i: usize| hoop(mesh, s, i);
+    csv(
+        &dir.join("fig9_hoop_circumference.csv"),
+        "surface,theta_deg,hoop_Pa",
+        c_in.iter()
+            .map(|&i| vec![0.0, deg(i), hoop_at(&last.stress, i)])
+            .chain(
+                l_out
+                    .iter()
+                    .map(|&i| vec![1.0, deg(i), hoop_at(&last.stress, i)]),
+            ),
+    )?;
+    plot(
+        dir,
+        "fig9_hoop_circumference",
+        "Hoop prestress around the circumference (surface 0 = inner, 1 = outer)",
+        "θ from the weld centre [°]",
+        "σ_θθ [MPa]",
+        vec![
+            Series {
+                label: "inner surface (core)".into(),
+                points: c_in
+                    .iter()
+                    .map(|&i| (deg(i), hoop_at(&last.stress, i) / 1e6))
+                    .collect(),
+            },
+            Series {
+                label: "outer surface (layer)".into(),
+                points: l_out
+                    .iter()
+                    .map(|&i| (deg(i), hoop_at(&last.stress, i) / 1e6))
+                    .collect(),
+            },
+        ],
+    )?;
+
+    // Fig. 10: tangential displacement of the outer surface.
+    let u = &last.displacement;
+    let ut = |i: usize| {
+        let (_, t) = r_theta(mesh.nodes()[i]);
+        -u[2 * i] * t.sin() + u[2 * i + 1] * t.cos()
+    };
+    let kappa = if run.options.analysis == Analysis::PlaneStrain {
+        1.0 + run.options.data.poisson_ratio
+    } else {
+        1.0
+    };
+    let shrink = kappa
+        * run.options.data.expansion
+        * (run.options.data.weld_temperature - run.options.data.ambient)
+        * g.weld_half_width;
+    csv(
+        &dir.join("fig10_tangential_displacement.csv"),
+        "theta_deg,u_theta_m,free_weld_shrinkage_half_m",
+        l_out.iter().map(|&i| vec![deg(i), ut(i), -shrink]),
+    )?;
+    plot(
+        dir,
+        "fig10_tangential_displacement",
+        "Tangential displacement of the outer surface",
+        "θ from the weld centre [°]",
+        "u_θ [µm]",
+        vec![
+            Series {
+                label: "FE".into(),
+                points: l_out.iter().map(|&i| (deg(i), ut(i) * 1e6)).collect(),
+            },
+            Series {
+                label: "free shrinkage of the half weld, −κ α ΔT w/2".into(),
+                points: vec![(0.0, -shrink * 1e6), (180.0, -shrink * 1e6)],
+            },
+        ],
+    )?;
+
+    // Interface: contact pressure, slip and status.
+    let th = |p: &InterfacePointResult| p.position[1].atan2(p.position[0]).to_degrees();
+    csv(
+        &dir.join("interface_final.csv"),
+        "theta_deg,jump_t_m,jump_n_m,shear_Pa,contact_pressure_Pa,slip_m,status(0=open,1=stick,2=slip)",
+        last.interface.iter().map(|p| {
+            let st = match p.status {
+                tecon_contact::ContactStatus::Open => 0.0,
+                tecon_contact::ContactStatus::Stick => 1.0,
+                tecon_contact::ContactStatus::Slip => 2.0,
+            };
+            vec![
+                th(p),
+                p.jump[0],
+                p.jump[1],
+                p.traction[0],
+                -p.traction[1],
+                p.slip,
+                st,
+            ]
+        }),
+    )?;
+    plot(
+        dir,
+        "interface_contact_pressure",
+        "Core/layer interface after cooling",
+        "θ from the weld centre [°]",
+        "contact pressure [MPa]",
+        vec![
+            Series {
+                label: "FE".into(),
+                points: last
+                    .interface
+                    .iter()
+                    .map(|p| (th(p), -p.traction[1] / 1e6))
+                    .collect(),
+            },
+            Series {
+                label: "analytical (plane strain)".into(),
+                points: vec![
+                    (0.0, an[0].1.pressure() / 1e6),
+                    (180.0, an[0].1.pressure() / 1e6),
+                ],
+            },
+        ],
+    )?;
+    plot(
+        dir,
+        "interface_slip",
+        "Core/layer interface: slip and opening",
+        "θ from the weld centre [°]",
+        "[µm]",
+        vec![
+            Series {
+                label: "plastic slip g_s".into(),
+                points: last
+                    .interface
+                    .iter()
+                    .map(|p| (th(p), p.slip * 1e6))
+                    .collect(),
+            },
+            Series {
+                label: "opening Δu_n".into(),
+                points: last
+                    .interface
+                    .iter()
+                    .map(|p| (th(p), p.jump[1] * 1e6))
+                    .collect(),
+            },
+        ],
+    )?;
+
+    // VTK time series.
+    let mut entries = Vec::new();
+    for (k, r) in run.results.iter().enumerate() {
+        let name = format!("vessel_{k:03}.vtu");
+        write_state_vtu(
+            mesh,
+            &dir.join(&name),
+            &r.thermal.temperature,
+            &r.displacement,
+            &r.stress,
+        )?;
+        entries.push((r.time, name));
+    }
+    write_pvd(dir.join("vessel.pvd"), &entries)?;
+    std::fs::write(dir.join("summary.json"), serde_json::to_string_pretty(v)?)
+        .map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok(())
+}
+
+fn write_state_vtu(
+    mesh: &Mesh,
+    path: &Path,
+    t: &[f64],
+    u: &[f64],
+    s: &StressField,
+) -> CliResult<()> {
+    let disp: Vec<[f64; 2]> = (0..mesh.n_nodes())
+        .map(|i| [u[2 * i], u[2 * i + 1]])
+        .collect();
+    let nodal: Vec<f64> = s.nodal.iter().flat_map(|v| v.iter().copied()).collect();
+    let polar_n: Vec<f64> = (0..mesh.n_nodes())
+        .flat_map(|i| polar(s.nodal[i], mesh.nodes()[i], [0.0; 2]))
+        .collect();
+    let vm: Vec<f64> = s.nodal.iter().map(|v| von_mises(*v)).collect();
+    let cell: Vec<f64> = s.element.iter().flat_map(|v| v.iter().copied()).collect();
+    let region: Vec<f64> = mesh.element_regions().iter().map(|&r| r as f64).collect();
+    write_vtu(
+        path,
+        &VtuPiece {
+            points: mesh.nodes(),
+            triangles: mesh.triangles(),
+            quads: &[],
+            point_data: &[
+                ("temperature_C", Field::Scalars(t)),
+                ("displacement_m", Field::Vectors(&disp)),
+                (
+                    "stress_xx_yy_xy_zz_Pa",
+                    Field::Components {
+                        n: 4,
+                        values: &nodal,
+                    },
+                ),
+                (
+                    "stress_rr_tt_rt_Pa",
+                    Field::Components {
+                        n: 3,
+                        values: &polar_n,
+                    },
+                ),
+                ("von_mises_Pa", Field::Scalars(&vm)),
+            ],
+            cell_data: &[
+                (
+                    "stress_xx_yy_xy_zz_Pa",
+                    Field::Components {
+                        n: 4,
+                        values: &cell,
+                    },
+                ),
+                ("region", Field::Scalars(&region)),
+            ],
+        },
+    )?;
+    Ok(())
+}
+
+/// Arguments of `tecon vessel`.
+#[derive(clap::Args, Debug)]
+pub struct VesselArgs {
+    /// Mesh: `paper` (108 nodes, 136 triangles, 17 interface elements) or a
+    /// refinement level 0–9 (136·4^level triangles); default 3.
+    #[arg(long, default_value = "3")]
+    pub mesh: String,
+    /// Friction coefficient μ = tan φ of the core/layer joint.
+    #[arg(long, default_value_t = 0.3)]
+    pub friction: f64,
+    /// Cohesion of the joint, Pa.
+    #[arg(long, default_value_t = 0.0)]
+    pub cohesion: f64,
+    /// Internal (operating) pressure applied after cooling, Pa.
+    #[arg(long)]
+    pub pressure: Option<f64>,
+    /// Fuse the weld to the core (no interface under the weld).
+    #[arg(long)]
+    pub fused_weld: bool,
+    /// Generalised plane strain (free ends) instead of plane strain.
+    #[arg(long)]
+    pub free_ends: bool,
+    /// Pure penalty contact (no augmented-Lagrangian update).
+    #[arg(long)]
+    pub penalty_only: bool,
+    /// Output times, s (comma-separated; the last ends the cooling).
+    #[arg(long, value_delimiter = ',', default_value = "1,10,60,600,3600,72000")]
+    pub times: Vec<f64>,
+    /// `--study mesh`: the case on meshes paper, 0, 1, 2, 3, 4 with a convergence table.
+    #[arg(long)]
+    pub study: Option<String>,
+    /// Output folder.
+    #[arg(long, default_value = "tecon-out/vessel")]
+    pub out: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Print the Newton iteration history of every increment.
+    #[arg(long)]
+    pub verbose: bool,
+}
+
+/// Options from the command line.
+pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
+    let spec =
+        crate::mesh_cmd::parse_preset(&args.mesh).map_err(|e| e.replace("--preset", "--mesh"))?;
+    Ok(VesselOptions {
+        mesh: VesselMeshSpec {
+            fused_weld: args.fused_weld,
+            ..spec
+        },
+        friction: args.friction,
+        cohesion: args.cohesion,
+        pressure: args.pressure,
+        times: args.times.clone(),
+        analysis: if args.free_ends {
+            Analysis::GeneralisedPlaneStrain
+        } else {
+            Analysis::PlaneStrain
+        },
+        augmented_lagrangian: if args.penalty_only { None } else { Some(1e-4) },
+        quiet: args.quiet,
+        verbose: args.verbose,
+        ..VesselOptions::default()
+    })
+}
+
+/// Runs `tecon vessel`.
+pub fn run(args: VesselArgs) -> CliResult<()> {
+    let base = options(&args)?;
+    match args.study.as_deref() {
+        None => {
+            let run = analyse(&base)?;
+            let v = summary(&run);
+            write_outputs(&run, &v, &args.out)?;
+            print!("{}", report(&run, &v));
+            println!("results in {}", args.out.display());
+            Ok(())
+        }
+        Some("mesh") => study(&base, &args.out),
+        Some(other) => Err(format!("--study '{other}': the only study is 'mesh'").into()),
+    }
+}
+
+/// The mesh-convergence study.
+pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let mut specs = vec![("paper".to_string(), VesselMeshSpec::paper())];
+    for l in 0..=4 {
+        specs.push((l.to_string(), VesselMeshSpec::refined(l)?));
+    }
+    let mut table = Vec::new();
+    let mut text = String::from(
+        "mesh     triangles  core_inner[MPa] core_outer[MPa] layer_inner[MPa] layer_outer[MPa] p_contact[MPa]   seconds\n",
+    );
+    for (name, spec) in specs {
+        let o = VesselOptions {
+            mesh: VesselMeshSpec {
+                fused_weld: base.mesh.fused_weld,
+                ..spec
+            },
+            ..base.clone()
+        };
+        let run = analyse(&o)?;
+        let v = summary(&run);
+        let g = |k: &str| v.pointer(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
+        let row = vec![
+            run.mesh.n_triangles() as f64,
+            g("/final/hoop_mean/core_inner"),
+            g("/final/hoop_mean/core_outer"),
+            g("/final/hoop_mean/layer_inner"),
+            g("/final/hoop_mean/layer_outer"),
+            g("/final/contact_pressure_mean"),
+            run.seconds,
+        ];
+        text += &format!(
+            "{name:<8} {:>9} {:>15.3} {:>15.3} {:>16.3} {:>16.3} {:>14.4} {:>9.2}\n",
+            row[0],
+            row[1] / 1e6,
+            row[2] / 1e6,
+            row[3] / 1e6,
+            row[4] / 1e6,
+            row[5] / 1e6,
+            row[6]
+        );
+        table.push(row);
+    }
+    csv(
+        &out.join("study_mesh.csv"),
+        "triangles,hoop_core_inner_Pa,hoop_core_outer_Pa,hoop_layer_inner_Pa,hoop_layer_outer_Pa,contact_pressure_Pa,seconds",
+        table.clone(),
+    )?;
+    let series = [
+        ("core inner", 1),
+        ("core outer", 2),
+        ("layer inner", 3),
+        ("layer outer", 4),
+    ]
+    .iter()
+    .map(|&(l, k)| Series {
+        label: l.into(),
+        points: table.iter().map(|r| (r[0].log10(), r[k] / 1e6)).collect(),
+    })
+    .collect();
+    plot(
+        out,
+        "study_mesh",
+        "Mesh convergence of the mean hoop prestress",
+        "log10(triangles)",
+        "σ_θθ mean [MPa]",
+        series,
+    )?;
+    print!("{text}");
+    std::fs::write(out.join("study_mesh.txt"), &text)
+        .map_err(|e| format!("{}: {e}", out.display()))?;
+    Ok(())
+}
