@@ -16,7 +16,9 @@
 //!
 //! The right-hand side is F = P f, the constraint row e_k = ∫ φ_{J,k} = 2^{−J/2},
 //! and J uses ∫ g2 μ = αᵀ P g2. The solution is mapped to a trigonometric
-//! density by μ̂(r) = 2^{−J/2} φ̂(r/n) α̂(r) for |r| ≤ n/4.
+//! density by μ̂(r) = 2^{−J/2} φ̂(r/n) α̂(r) for |r| ≤ 3n/8 (the Galerkin
+//! functionals ⟨μ, e^{2πirt}⟩ are superconvergent for low r; the top of the
+//! band, where φ̂ decays, is left out).
 
 use crate::daubechies::Daubechies;
 use crate::density::FourierDensity;
@@ -244,10 +246,10 @@ pub(crate) fn solve(
         }
     };
     let j_integral: f64 = alpha.iter().zip(&sys.functional).map(|(a, b)| a * b).sum();
-    // density: μ̂(r) = 2^{−J/2} φ̂(r/n) α̂(r), |r| ≤ n/4
+    // density: μ̂(r) = 2^{−J/2} φ̂(r/n) α̂(r), |r| ≤ 3n/8
     let mut ah: Vec<Complex64> = alpha.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut ah);
-    let rmax = n / 4;
+    let rmax = 3 * n / 8;
     let s = 1.0 / (n as f64).sqrt();
     let coef: Vec<Complex64> = (-(rmax as i64)..=rmax as i64)
         .map(|r| s * sys.wavelet.phi_hat(r as f64 / n as f64) * ah[r.rem_euclid(n as i64) as usize])
