@@ -2,7 +2,7 @@
 //!
 //! Reference: WAVELET_BEM.md §4 (Timoshenko & Goodier, *Theory of
 //! Elasticity*, ch. 10: circle, ellipse, equilateral triangle, rectangle
-//! series); the limaçon from the conformal map z = A(ζ + cζ²) (v = A²(1 + c² +
+//! series; semicircle J = (π/2 − 4/π)R⁴); the limaçon from the conformal map z = A(ζ + cζ²) (v = A²(1 + c² +
 //! 2c Re ζ)/2 in the ζ-disc); the grooved shaft u = a x − r²/2 − a b² x/r² + b²/2.
 //!
 //! Goal: J, τ_max and the boundary distribution |q| to the tolerances of §5
@@ -305,4 +305,52 @@ fn reentrant_corner_is_singular() {
     // J agrees between methods (no closed form; the methods are independent discretisations)
     let s2 = run(&sec, Method::Nystrom, 512);
     assert!(rel(s.torsional_rigidity, s2.torsional_rigidity) < 1e-6);
+}
+
+#[test]
+fn semicircle_from_a_file_thin_ellipse_and_near_cusp_limacon() {
+    // semicircle of radius R (segment + arc): J = (π/2 − 4/π) R⁴ (Saint-Venant)
+    let text = "[[piece]]\nkind = \"segment\"\nfrom = [-2.0, 0.0]\nto = [2.0, 0.0]\n\
+                [[piece]]\nkind = \"arc\"\ncenter = [0.0, 0.0]\nradius = 2.0\nstart_deg = 0.0\nend_deg = 180.0\n";
+    let sec = sections::parse_section_toml(text, "semicircle.toml").unwrap();
+    let j = (std::f64::consts::FRAC_PI_2 - 4.0 / std::f64::consts::PI) * 16.0;
+    for m in METHODS {
+        let s = run(&sec, m, 512);
+        assert!(
+            rel(s.torsional_rigidity, j) < 1e-8,
+            "{m}: semicircle J {} vs {j}",
+            s.torsional_rigidity
+        );
+    }
+    // aspect ratio 10 with a few hundred unknowns
+    let ex = Ellipse { a: 10.0, b: 1.0 };
+    let sec = sections::ellipse(10.0, 1.0).unwrap();
+    for m in METHODS {
+        let s = run(&sec, m, 256);
+        assert!(
+            rel(s.torsional_rigidity, ex.rigidity()) < 1e-12,
+            "{m}: J {}",
+            s.torsional_rigidity
+        );
+        assert!(
+            rel(s.max_shear().value.unwrap(), ex.max_shear()) < 1e-12,
+            "{m}: τ"
+        );
+    }
+    // limaçon close to the cardioid (c = 0.45): still smooth, τ_max = 5.05 A in the dimple
+    let ex = Limacon { a: 1.0, c: 0.45 };
+    let sec = sections::limacon(1.0, 0.45).unwrap();
+    for m in METHODS {
+        let s = run(&sec, m, 256);
+        assert!(
+            rel(s.torsional_rigidity, ex.rigidity()) < 1e-12,
+            "{m}: J {}",
+            s.torsional_rigidity
+        );
+        assert!(
+            rel(s.max_shear().value.unwrap(), ex.max_shear()) < 1e-12,
+            "{m}: τ {:?}",
+            s.max_shear().value
+        );
+    }
 }
