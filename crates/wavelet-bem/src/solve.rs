@@ -51,7 +51,7 @@ pub enum LinearSolver {
 /// Options of [`solve`].
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
-    /// number of unknowns n (a power of two ≥ the wavelet's minimum for Daubechies)
+    /// number of unknowns n, 8 ≤ n ≤ 8192 (a power of two ≥ the wavelet's minimum for Daubechies)
     pub n: usize,
     /// method
     pub method: Method,
@@ -165,10 +165,11 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
     if !(opts.grading >= 2.0 && opts.grading <= 12.0 && opts.grading.fract() == 0.0) {
         return Err(SolveError::BadGrading(opts.grading));
     }
-    if opts.n < 8 || opts.n > 1 << 16 {
+    // dense n×n work arrays: 8192² doubles are 0.5 GB each
+    if opts.n < 8 || opts.n > 1 << 13 {
         return Err(SolveError::BadN {
             n: opts.n,
-            reason: "need 8 ≤ n ≤ 65536".into(),
+            reason: "need 8 ≤ n ≤ 8192 (dense matrices)".into(),
         });
     }
     let param = Parametrisation::new(section, opts.grading);

@@ -261,6 +261,13 @@ fn solver_options_are_validated() {
     ));
     assert!(matches!(
         bad(Options {
+            n: 1 << 16,
+            ..Options::default()
+        }),
+        SolveError::BadN { .. }
+    ));
+    assert!(matches!(
+        bad(Options {
             grading: 1.0,
             ..Options::default()
         }),
