@@ -593,11 +593,15 @@ impl<'a> StaticSolver<'a> {
             .collect()
     }
 
-    fn statuses(&self, u: &[f64], committed: &[Vec<[JointState; 2]>]) -> Vec<ContactStatus> {
+    /// Status and traction magnitude |τ| + |σ| of every interface point.
+    fn statuses(&self, u: &[f64], committed: &[Vec<[JointState; 2]>]) -> Vec<(ContactStatus, f64)> {
         self.responses(u, committed)
             .iter()
             .flatten()
-            .flat_map(|r| [r.points[0].status, r.points[1].status])
+            .flat_map(|r| {
+                r.points
+                    .map(|p| (p.status, p.traction.x.abs() + p.traction.y.abs()))
+            })
             .collect()
     }
 
@@ -728,7 +732,7 @@ impl<'a> StaticSolver<'a> {
             u[d] = v * loads.displacement;
         }
         let mut history: Vec<IterationRecord> = Vec::new();
-        let mut prev: Option<Vec<ContactStatus>> = None;
+        let mut prev: Option<Vec<(ContactStatus, f64)>> = None;
         let mut prev2: Option<Vec<ContactStatus>> = None;
         let mut ping_pong = 0;
         let mut short_steps = 0;
@@ -741,13 +745,23 @@ impl<'a> StaticSolver<'a> {
             let (kt, f_int) = self.tangent_and_force(&u, committed, true)?;
             let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             let status = self.statuses(&u, committed);
+            let status_t = status.clone();
             let r = self.residual(f_ext, &f_int);
             reference = reference.max(norm(&f_int));
             let rel = norm(&r) / reference;
+            // A status change counts only where the point carries traction
+            // before or after it: points at zero load (e.g. far from a local
+            // thermal load) flip between touching and open at round-off level.
+            let t_max = status.iter().map(|s| s.1).fold(0.0, f64::max);
             let changed = match &prev {
-                Some(p) => p.iter().zip(&status).filter(|(a, b)| a != b).count(),
+                Some(p) => p
+                    .iter()
+                    .zip(&status)
+                    .filter(|(a, b)| a.0 != b.0 && a.1.max(b.1) > STATUS_TRACTION_FLOOR * t_max)
+                    .count(),
                 None => status.len(),
             };
+            let status: Vec<ContactStatus> = status.iter().map(|s| s.0).collect();
             if prev2.as_ref().is_some_and(|p2| *p2 == status) && changed > 0 {
                 ping_pong += 1;
             }
@@ -827,8 +841,10 @@ impl<'a> StaticSolver<'a> {
                 h.correction = step * norm(&du) / unorm;
                 h.step = step;
             }
-            prev2 = prev.take();
-            prev = Some(status);
+            prev2 = prev
+                .take()
+                .map(|p: Vec<(ContactStatus, f64)>| p.iter().map(|s| s.0).collect());
+            prev = Some(status_t);
         }
         Err(ElasticError::NotConverged {
             fraction: 0.0,
@@ -1002,6 +1018,10 @@ impl<'a> StaticSolver<'a> {
 }
 
 type States = Vec<Vec<[JointState; 2]>>;
+
+/// Relative traction below which a point's status change does not hold up
+/// convergence.
+const STATUS_TRACTION_FLOOR: f64 = 1e-6;
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
