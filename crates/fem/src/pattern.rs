@@ -194,9 +194,9 @@ fn detect_block_size(n: usize, blocks: &[(usize, &[usize])]) -> Option<usize> {
         n.is_multiple_of(c)
             && blocks.iter().all(|&(ndof, dofs)| {
                 ndof.is_multiple_of(c)
-                    && dofs
-                        .chunks_exact(c)
-                        .all(|g| g[0].is_multiple_of(c) && g.iter().enumerate().all(|(k, &d)| d == g[0] + k))
+                    && dofs.chunks_exact(c).all(|g| {
+                        g[0].is_multiple_of(c) && g.iter().enumerate().all(|(k, &d)| d == g[0] + k)
+                    })
             })
     })
 }
