@@ -84,7 +84,6 @@ pub fn check_rigid_modes(matrix: &CsrMatrix, modes: &[RigidMode]) -> Result<(), 
         return Ok(());
     }
     let n = matrix.n();
-    let p = matrix.pattern();
     let diag: Vec<f64> = (0..n).map(|i| matrix.get(i, i).abs()).collect();
     let mut x = vec![0.0; n];
     let mut y = vec![0.0; n];
@@ -102,8 +101,6 @@ pub fn check_rigid_modes(matrix: &CsrMatrix, modes: &[RigidMode]) -> Result<(), 
             x[d] = v;
             s[k] += diag[d] * v * v;
         }
-        // y = A x restricted to rows that other modes read: compute fully (cheap).
-        let _ = p;
         matrix.mul_vec(&x, &mut y);
         for (j, mj) in modes.iter().enumerate() {
             g[(j, k)] = mj.entries.iter().map(|&(d, v)| v * y[d]).sum::<f64>();

@@ -35,6 +35,24 @@ fn symbolic_view(p: &SparsityPattern) -> SymbolicSparseColMatRef<'_, usize> {
     SymbolicSparseColMatRef::new_checked(p.n(), p.n(), p.indptr(), None, p.indices())
 }
 
+/// The analysed pattern, checked cheaply when the matrix shares it.
+fn same_pattern(
+    matrix: &CsrMatrix,
+    pattern: &std::sync::Arc<SparsityPattern>,
+) -> Result<(), FemError> {
+    if std::sync::Arc::ptr_eq(matrix.pattern(), pattern) || **matrix.pattern() == **pattern {
+        Ok(())
+    } else {
+        Err(FemError::Solver(
+            "matrix pattern differs from the analysed one".into(),
+        ))
+    }
+}
+
+fn scratch(req: faer::dyn_stack::StackReq) -> Result<MemBuffer, FemError> {
+    MemBuffer::try_new(req).map_err(|_| FemError::Solver("out of memory for solver scratch".into()))
+}
+
 fn check_finite(what: &str, v: &[f64]) -> Result<(), FemError> {
     match v.iter().position(|x| !x.is_finite()) {
         Some(index) => Err(FemError::NonFinite {
@@ -54,7 +72,7 @@ fn as_col(rhs: &mut [f64]) -> MatMut<'_, f64> {
 #[derive(Debug)]
 pub struct CholeskySolver {
     pattern: std::sync::Arc<SparsityPattern>,
-    symbolic: SymbolicCholesky<usize>,
+    symbolic: std::sync::Arc<SymbolicCholesky<usize>>,
     l_values: Vec<f64>,
     factorised: bool,
 }
@@ -72,10 +90,21 @@ impl CholeskySolver {
         let l_values = vec![0.0; symbolic.len_val()];
         Ok(CholeskySolver {
             pattern,
-            symbolic,
+            symbolic: std::sync::Arc::new(symbolic),
             l_values,
             factorised: false,
         })
+    }
+
+    /// A second solver on the same symbolic analysis (no new ordering), for
+    /// keeping several numeric factorisations (e.g. one per time step size).
+    pub fn share_symbolic(&self) -> CholeskySolver {
+        CholeskySolver {
+            pattern: self.pattern.clone(),
+            symbolic: self.symbolic.clone(),
+            l_values: vec![0.0; self.l_values.len()],
+            factorised: false,
+        }
     }
 
     /// Number of stored entries in the factor.
@@ -85,11 +114,7 @@ impl CholeskySolver {
 
     /// Numeric factorisation of `matrix` (same pattern as analysed).
     pub fn factorise(&mut self, matrix: &CsrMatrix) -> Result<(), FemError> {
-        if **matrix.pattern() != *self.pattern {
-            return Err(FemError::Solver(
-                "matrix pattern differs from the analysed one".into(),
-            ));
-        }
+        same_pattern(matrix, &self.pattern)?;
         check_finite("matrix", matrix.values())?;
         self.factorised = false;
         let p = par();
@@ -147,7 +172,7 @@ impl CholeskySolver {
         }
         let p = par();
         let req = self.symbolic.solve_in_place_scratch::<f64>(1, p);
-        let mut mem = MemBuffer::new(req);
+        let mut mem = scratch(req)?;
         let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
         llt.solve_in_place_with_conj(Conj::No, as_col(rhs), p, MemStack::new(&mut mem));
         check_finite("solution", rhs)
@@ -178,11 +203,7 @@ impl LuSolver {
 
     /// Numeric factorisation of `matrix`.
     pub fn factorise(&mut self, matrix: &CsrMatrix) -> Result<(), FemError> {
-        if **matrix.pattern() != *self.pattern {
-            return Err(FemError::Solver(
-                "matrix pattern differs from the analysed one".into(),
-            ));
-        }
+        same_pattern(matrix, &self.pattern)?;
         check_finite("matrix", matrix.values())?;
         self.factorised = false;
         let p = par();
@@ -226,7 +247,7 @@ impl LuSolver {
         }
         let p = par();
         let req = self.symbolic.solve_transpose_in_place_scratch::<f64>(1, p);
-        let mut mem = MemBuffer::new(req);
+        let mut mem = scratch(req)?;
         // `factorise` filled `numeric` from this `symbolic`.
         let lu = LuRef::new_unchecked(&self.symbolic, &self.numeric);
         lu.solve_transpose_in_place_with_conj(Conj::No, as_col(rhs), p, MemStack::new(&mut mem));

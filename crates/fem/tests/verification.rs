@@ -559,3 +559,33 @@ fn factorisation_and_solve_are_bitwise_identical_for_any_thread_count() {
         );
     }
 }
+
+#[test]
+fn shared_symbolic_analysis_factorises_two_matrices() {
+    let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 6, 6).unwrap();
+    let lap = laplace(&mesh, 1.0, 1.0);
+    let mut b = AssemblerBuilder::new(mesh.n_nodes());
+    let id = b.add_elements(&lap);
+    let asm = b.build().unwrap();
+    let mut a = asm.new_matrix();
+    let mut f = vec![0.0; mesh.n_nodes()];
+    asm.add(id, &lap, &mut a, Some(&mut f), Parallelism::Serial)
+        .unwrap();
+    let mut bc = Dirichlet::new();
+    bc.set(0, 0.0);
+    bc.prepare(a.pattern()).unwrap().apply(&mut a, &mut f);
+    let mut a2 = a.clone();
+    for v in a2.values_mut() {
+        *v *= 4.0;
+    }
+    let mut s1 = CholeskySolver::analyse(a.pattern().clone()).unwrap();
+    let mut s2 = s1.share_symbolic();
+    s1.factorise(&a).unwrap();
+    s2.factorise(&a2).unwrap();
+    let (mut x1, mut x2) = (f.clone(), f.clone());
+    s1.solve(&mut x1).unwrap();
+    s2.solve(&mut x2).unwrap();
+    for (p, q) in x1.iter().zip(&x2) {
+        assert!((p - 4.0 * q).abs() < 1e-12 * p.abs().max(1e-12));
+    }
+}
