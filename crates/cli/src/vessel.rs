@@ -865,31 +865,25 @@ pub fn write_outputs(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<()> {
             },
         ],
     )?;
-    let mut series11 = vec![
-        Series {
-            label: "FE core".into(),
-            points: split(true),
-        },
-        Series {
-            label: "FE layer".into(),
-            points: split(false),
-        },
-    ];
+    // one series per model, core then layer (the jump at the interface is drawn)
+    let mut series11 = vec![Series {
+        label: "FE (circumferential mean)".into(),
+        points: profile.iter().map(|p| (p.0, p.3 / 1e6)).collect(),
+    }];
     for (name, f) in &an {
+        let mut points = Vec::new();
         for in_core in [true, false] {
             let (r0, r1) = if in_core { (f.a, f.c) } else { (f.c, f.b) };
-            series11.push(Series {
-                label: format!(
-                    "analytical {} ({})",
-                    name.replace('_', " "),
-                    if in_core { "core" } else { "layer" }
-                ),
-                points: (0..=20)
+            points.extend(
+                (0..=20)
                     .map(|k| r0 + (r1 - r0) * k as f64 / 20.0)
-                    .map(|r| (wall(r), f.sigma_tt(r, in_core) / 1e6))
-                    .collect(),
-            });
+                    .map(|r| (wall(r), f.sigma_tt(r, in_core) / 1e6)),
+            );
         }
+        series11.push(Series {
+            label: format!("analytical, {}", name.replace('_', " ")),
+            points,
+        });
     }
     plot(
         dir,
