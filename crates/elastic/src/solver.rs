@@ -270,11 +270,6 @@ impl Element<8> for InterfaceSet<'_> {
     }
 }
 
-enum Factor {
-    Cholesky(CholeskySolver),
-    Lu(LuSolver),
-}
-
 /// The static nonlinear solver of one model, holding the committed state.
 pub struct StaticSolver<'a> {
     model: &'a ElasticModel<'a>,
@@ -919,38 +914,25 @@ impl<'a> StaticSolver<'a> {
         rhs: &mut [f64],
         symmetric: bool,
     ) -> Result<(), ElasticError> {
-        let factor = if symmetric {
-            if self.cholesky.is_none() {
-                self.cholesky = Some(CholeskySolver::analyse(kt.pattern().clone())?);
-            }
-            Factor::Cholesky(
-                self.cholesky
-                    .take()
-                    .ok_or_else(|| FemError::Solver("cholesky".into()))?,
-            )
+        // symbolic analyses are made once, on first use of each kind
+        if symmetric {
+            let c = match &mut self.cholesky {
+                Some(c) => c,
+                None => self
+                    .cholesky
+                    .insert(CholeskySolver::analyse(kt.pattern().clone())?),
+            };
+            c.factorise(kt)?;
+            c.solve(rhs)?;
         } else {
-            if self.lu.is_none() {
-                self.lu = Some(LuSolver::analyse(kt.pattern().clone())?);
-            }
-            Factor::Lu(
-                self.lu
-                    .take()
-                    .ok_or_else(|| FemError::Solver("lu".into()))?,
-            )
-        };
-        let result = match factor {
-            Factor::Cholesky(mut c) => {
-                let r = c.factorise(kt).and_then(|_| c.solve(rhs));
-                self.cholesky = Some(c);
-                r
-            }
-            Factor::Lu(mut l) => {
-                let r = l.factorise(kt).and_then(|_| l.solve(rhs));
-                self.lu = Some(l);
-                r
-            }
-        };
-        result.map_err(ElasticError::from)
+            let l = match &mut self.lu {
+                Some(l) => l,
+                None => self.lu.insert(LuSolver::analyse(kt.pattern().clone())?),
+            };
+            l.factorise(kt)?;
+            l.solve(rhs)?;
+        }
+        Ok(())
     }
 
     /// Element and nodal stresses of the committed state.
