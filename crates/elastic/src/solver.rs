@@ -177,15 +177,7 @@ impl Element<6> for Bulk<'_> {
     }
     #[inline]
     fn dofs(&self, e: usize) -> [usize; 6] {
-        let t = self.triangles[e];
-        [
-            2 * t[0],
-            2 * t[0] + 1,
-            2 * t[1],
-            2 * t[1] + 1,
-            2 * t[2],
-            2 * t[2] + 1,
-        ]
+        PLANE.element_dofs(self.triangles[e])
     }
     #[inline]
     fn local(&self, e: usize) -> LocalSystem<6> {
@@ -207,16 +199,8 @@ impl Element<7> for Bulk<'_> {
     }
     #[inline]
     fn dofs(&self, e: usize) -> [usize; 7] {
-        let t = self.triangles[e];
-        [
-            2 * t[0],
-            2 * t[0] + 1,
-            2 * t[1],
-            2 * t[1] + 1,
-            2 * t[2],
-            2 * t[2] + 1,
-            self.eps_zz,
-        ]
+        let d: [usize; 6] = PLANE.element_dofs(self.triangles[e]);
+        [d[0], d[1], d[2], d[3], d[4], d[5], self.eps_zz]
     }
     #[inline]
     fn local(&self, e: usize) -> LocalSystem<7> {
@@ -248,17 +232,7 @@ impl Element<8> for InterfaceSet<'_> {
     }
     #[inline]
     fn dofs(&self, e: usize) -> [usize; 8] {
-        let n = self.nodes[e];
-        [
-            2 * n[0],
-            2 * n[0] + 1,
-            2 * n[1],
-            2 * n[1] + 1,
-            2 * n[2],
-            2 * n[2] + 1,
-            2 * n[3],
-            2 * n[3] + 1,
-        ]
+        PLANE.element_dofs(self.nodes[e])
     }
     #[inline]
     fn local(&self, e: usize) -> LocalSystem<8> {
@@ -1000,6 +974,10 @@ impl<'a> StaticSolver<'a> {
 }
 
 type States = Vec<Vec<[JointState; 2]>>;
+
+/// Two displacement components per node (the node count is not needed to
+/// number an element's dofs).
+const PLANE: tecon_fem::DofMap = tecon_fem::DofMap::new(0, 2);
 
 /// Relative traction below which a point's status change does not hold up
 /// convergence.

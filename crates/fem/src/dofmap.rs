@@ -9,7 +9,7 @@ pub struct DofMap {
 
 impl DofMap {
     /// `n_components` unknowns per node (1 for temperature, 2 for plane displacement).
-    pub fn new(n_nodes: usize, n_components: usize) -> Self {
+    pub const fn new(n_nodes: usize, n_components: usize) -> Self {
         DofMap {
             n_nodes,
             n_components,

@@ -56,15 +56,7 @@ impl Element<6> for ElasticSet<'_> {
     }
     #[inline]
     fn dofs(&self, e: usize) -> [usize; 6] {
-        let t = self.triangles[e];
-        [
-            2 * t[0],
-            2 * t[0] + 1,
-            2 * t[1],
-            2 * t[1] + 1,
-            2 * t[2],
-            2 * t[2] + 1,
-        ]
+        crate::DofMap::new(0, 2).element_dofs(self.triangles[e])
     }
     #[inline]
     fn local(&self, e: usize) -> LocalSystem<6> {
