@@ -6,6 +6,7 @@
 //! * [`torsion`]: wavelet-BEM torsion of a section.
 //! * [`plot`]: SVG/PNG line plots shared by the commands.
 
+pub mod case;
 pub mod mesh_cmd;
 pub mod plot;
 pub mod torsion;

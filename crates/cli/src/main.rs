@@ -7,7 +7,7 @@
 //! ```
 
 use clap::{Parser, Subcommand};
-use tecon_cli::{mesh_cmd, torsion, vessel};
+use tecon_cli::{case, mesh_cmd, torsion, vessel};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -28,6 +28,8 @@ enum Command {
     Mesh(mesh_cmd::MeshArgs),
     /// Saint-Venant torsion of a prismatic bar by the wavelet boundary integral method.
     Torsion(torsion::TorsionArgs),
+    /// Run a case file.
+    Run(case::RunArgs),
 }
 
 fn main() {
@@ -36,6 +38,7 @@ fn main() {
         Command::Vessel(args) => vessel::run(args),
         Command::Mesh(args) => mesh_cmd::run(args),
         Command::Torsion(args) => torsion::run(args),
+        Command::Run(args) => case::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

@@ -1,0 +1,256 @@
+//! End-to-end tests of `tecon run CASE.toml` (the case-file format).
+//!
+//! Reference: issue 6 ("`tecon run`" and "Bad input"); the two-cylinder
+//! Lamé shrink fit (`tecon_elastic::analytical::ShrinkFit`, interference
+//! δ = (1+ν) α ΔT c, plane strain) and the Lamé thick cylinder
+//! (`LameCylinder`).
+//!
+//! Goal: every shipped case in `examples/cases/` runs through the library
+//! (`case::load` + `case::execute`) and reproduces one number: the shrink
+//! fit's mean contact pressure within 1 % of the analytical 8.390324e6 Pa;
+//! the Lamé cylinder's bore displacement within 1 %; the published vessel
+//! on the paper mesh cools into a compressive core and a tensile layer.
+//! Every bad input (unknown key, missing region material, an edge set or
+//! region the mesh lacks, a negative thickness or modulus, a mesh file that
+//! does not parse) gives a one-line error naming the case file and the
+//! key/group, leaves no output behind, and the binary exits with code 2.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+use tecon_cli::case::{self, Case};
+use tecon_elastic::analytical::{Cylinders, LameCylinder, ShrinkFit};
+
+fn cases_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases")
+}
+
+fn run_example(name: &str) -> (Case, case::CaseResult) {
+    let path = cases_dir().join(name);
+    let c = case::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let res = case::execute(&c, &cases_dir()).unwrap_or_else(|e| panic!("{name}: {e}"));
+    (c, res)
+}
+
+fn num(v: &Value, pointer: &str) -> f64 {
+    v.pointer(pointer)
+        .and_then(Value::as_f64)
+        .unwrap_or_else(|| panic!("summary has no number at {pointer}: {v}"))
+}
+
+#[test]
+fn shrink_fit_matches_the_two_cylinder_solution() {
+    let (c, res) = run_example("shrink_fit.toml");
+    // the analytical answer from the case's own data
+    let m = &c.material[0];
+    let alpha = m.expansion.unwrap();
+    let fit = ShrinkFit {
+        a: 1.0,
+        c: 1.1,
+        b: 1.2,
+        delta: (1.0 + m.poisson_ratio) * alpha * 50.0 * 1.1,
+        e: m.youngs_modulus,
+        nu: m.poisson_ratio,
+        state: Cylinders::PlaneStrain,
+    };
+    let p_exact = fit.pressure();
+    assert!((p_exact / 8.390324e6 - 1.0).abs() < 1e-6, "{p_exact}");
+    assert_eq!(res.states.len(), 1);
+    let p = num(
+        &res.summary,
+        "/times/0/interfaces/inner_outer/contact_pressure_mean",
+    );
+    eprintln!("shrink fit: p = {p:.6e}, analytical {p_exact:.6e}");
+    assert!((p / p_exact - 1.0).abs() < 0.01, "p = {p}");
+    // and the inner ring is in hoop compression, the outer in tension
+    assert!(num(&res.summary, "/times/0/regions/inner/stress_mean/tt") < 0.0);
+    assert!(num(&res.summary, "/times/0/regions/outer/stress_mean/tt") > 0.0);
+}
+
+#[test]
+fn lame_cylinder_bore_displacement() {
+    let (c, res) = run_example("lame.toml");
+    let m = &c.material[0];
+    let exact = LameCylinder {
+        a: 1.0,
+        b: 1.5,
+        p: c.mechanical.pressure[0].value,
+        e: m.youngs_modulus,
+        nu: m.poisson_ratio,
+    };
+    let (p, node) = res.probes[0];
+    assert_eq!(p, [1.0, 0.0]);
+    let u = res.states[0].displacement[2 * node];
+    eprintln!("Lamé: u_r(a) = {u:.6e}, exact {:.6e}", exact.u_r(1.0));
+    assert!((u / exact.u_r(1.0) - 1.0).abs() < 0.01, "u = {u}");
+    assert!(res.summary["thermal"].is_null());
+}
+
+#[test]
+fn published_vessel_case_on_the_paper_mesh() {
+    let (_, res) = run_example("vessel.toml");
+    let v = &res.summary;
+    assert_eq!(num(v, "/mesh/nodes"), 108.0);
+    assert_eq!(num(v, "/mesh/triangles"), 136.0);
+    let times = v["times"].as_array().unwrap();
+    assert_eq!(times.len(), 6);
+    let last = times.last().unwrap();
+    let core = num(last, "/regions/core/stress_mean/tt");
+    let layer = num(last, "/regions/layer/stress_mean/tt");
+    eprintln!("vessel: mean hoop core {core:.4e} Pa, layer {layer:.4e} Pa");
+    assert!(core < 0.0, "core hoop {core}");
+    assert!(layer > 0.0, "layer hoop {layer}");
+    assert!(num(last, "/interfaces/core_layer/contact_pressure_mean") > 0.0);
+    assert!(num(v, "/thermal/heat_balance_max_rel_error") < 1e-10);
+    // cooled back to ambient
+    assert!((num(last, "/temperature_max") - 21.0).abs() < 1e-3);
+}
+
+#[test]
+fn outputs_are_written_and_complete() {
+    let (c, res) = run_example("shrink_fit.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    case::write_outputs(&c, &res, &out).unwrap();
+    for f in [
+        "summary.json",
+        "case.pvd",
+        "state_000.vtu",
+        "interface_000.csv",
+        "probes.csv",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    assert!(
+        names.iter().all(|n| !n.starts_with(".partial")),
+        "{names:?}"
+    );
+    let probes = std::fs::read_to_string(out.join("probes.csv")).unwrap();
+    assert_eq!(probes.lines().count(), 3);
+}
+
+// ---------------------------------------------------------------------------
+// Bad input
+// ---------------------------------------------------------------------------
+
+/// The shrink-fit case text with `from` replaced by `to` (must occur).
+fn edited(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(cases_dir().join("shrink_fit.toml")).unwrap();
+    assert!(text.contains(from), "{from}");
+    text.replacen(from, to, 1)
+}
+
+/// Writes `text` as `bad.toml` in a fresh folder and runs it; returns the error.
+fn error_of(text: &str) -> (String, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, text).unwrap();
+    let e = match case::load(&path) {
+        Err(e) => e.to_string(),
+        Ok(c) => match case::execute(&c, dir.path()) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("the bad case ran:\n{text}"),
+        },
+    };
+    assert!(!e.contains('\n'), "one line: {e}");
+    assert!(e.contains("bad.toml"), "names the file: {e}");
+    (e, dir)
+}
+
+#[test]
+fn unknown_key_is_named() {
+    let (e, _d) = error_of(&edited("conductivity = 63.9", "condutcivity = 63.9"));
+    assert!(e.contains("condutcivity"), "{e}");
+    let (e, _d) = error_of(&edited("[output]", "[outputs]"));
+    assert!(e.contains("outputs"), "{e}");
+}
+
+#[test]
+fn region_without_material_is_named() {
+    let text = edited("region = \"outer\"\nconductivity", "region = \"inner\"\nconductivity");
+    // two entries for inner: the duplicate is reported; drop the second instead
+    let (e, _d) = error_of(&text);
+    assert!(e.contains("inner"), "{e}");
+    let text = std::fs::read_to_string(cases_dir().join("shrink_fit.toml")).unwrap();
+    let cut = text.find("[[material]]\nregion = \"outer\"").unwrap();
+    let end = text[cut..].find("# The annulus").unwrap() + cut;
+    let text = format!("{}{}", &text[..cut], &text[end..]);
+    let (e, _d) = error_of(&text);
+    assert!(e.contains("region 'outer' has no [[material]]"), "{e}");
+}
+
+#[test]
+fn material_for_a_region_the_mesh_lacks() {
+    let (e, _d) = error_of(&edited("region = \"outer\"\nconductivity", "region = \"outre\"\nconductivity"));
+    assert!(e.contains("material[1].region") && e.contains("outre"), "{e}");
+}
+
+#[test]
+fn edge_set_the_mesh_lacks_is_named() {
+    let (e, _d) = error_of(&edited("edges = \"end\"", "edges = \"ends\""));
+    assert!(e.contains("mechanical.symmetry[1].edges") && e.contains("'ends'"), "{e}");
+    let (e, _d) = error_of(&edited("name = \"inner_outer\"", "name = \"inner_outre\""));
+    assert!(e.contains("inner_outre"), "{e}");
+}
+
+#[test]
+fn negative_thickness_and_modulus_are_named() {
+    let (e, _d) = error_of(&edited("r_out = 1.2", "r_out = 1.05"));
+    assert!(e.contains("mesh.layer[1]") && e.contains("thickness"), "{e}");
+    let (e, _d) = error_of(&edited("youngs_modulus = 207e9", "youngs_modulus = -207e9"));
+    assert!(e.contains("youngs_modulus") && e.contains("region 'inner'"), "{e}");
+    let vessel = std::fs::read_to_string(cases_dir().join("vessel.toml")).unwrap();
+    let (e, _d) = error_of(&vessel.replacen("layer_thickness = 0.0064", "layer_thickness = -0.0064", 1));
+    assert!(e.contains("mesh.layer_thickness"), "{e}");
+}
+
+#[test]
+fn mesh_file_that_does_not_parse_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("broken.msh"), "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\ngarbage\n").unwrap();
+    let text = "[mesh]\nfile = \"broken.msh\"\n";
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, text).unwrap();
+    let c = case::load(&path).unwrap();
+    let e = case::execute(&c, dir.path()).unwrap_err().to_string();
+    assert!(!e.contains('\n'), "{e}");
+    assert!(e.contains("bad.toml") && e.contains("mesh.file") && e.contains("broken.msh"), "{e}");
+    // a missing mesh file too
+    let c = case::parse("[mesh]\nfile = \"nowhere.msh\"\n", &path).unwrap();
+    let e = case::execute(&c, dir.path()).unwrap_err().to_string();
+    assert!(e.contains("nowhere.msh"), "{e}");
+}
+
+#[test]
+fn gmsh_physical_group_the_mesh_lacks_is_named() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../mesh/tests/data");
+    let text = "[mesh]\nfile = \"two_blocks.msh\"\n[[interface]]\nname = \"joint\"\nbottom = \"left_face\"\ntop = \"no_such_face\"\n";
+    let c = case::parse(text, Path::new("gmsh.toml")).unwrap();
+    let e = case::execute(&c, &data).unwrap_err().to_string();
+    assert!(e.contains("gmsh.toml") && e.contains("no_such_face"), "{e}");
+}
+
+#[test]
+fn binary_exits_2_with_one_line_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, edited("poisson_ratio = 0.3", "poisson_ration = 0.3")).unwrap();
+    let out = dir.path().join("results");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(stderr.starts_with("error: ") && stderr.contains("bad.toml") && stderr.contains("poisson_ration"), "{stderr}");
+    assert!(!out.exists(), "nothing written");
+}
