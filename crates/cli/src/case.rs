@@ -27,11 +27,13 @@ use serde::Deserialize;
 use serde_json::{Value, json};
 use tecon_contact::{ContactStatus, ElasticJoint, GhaboussiNormal, LinearJoint, PaperJoint};
 use tecon_elastic::{
-    Analysis, Component, ElasticModel, InterfacePointResult, Joint, Loads, Material,
-    SolverOptions, StaticSolver, StressField, polar, von_mises,
+    Analysis, Component, ElasticModel, InterfacePointResult, Joint, Loads, Material, SolverOptions,
+    StaticSolver, StressField, polar, von_mises,
 };
 use tecon_mesh::vtk::{Field, VtuPiece, write_pvd, write_vtu};
-use tecon_mesh::{Mesh, RingLayer, VesselGeometry, layered_annulus, read_msh, rectangle, vessel_mesh};
+use tecon_mesh::{
+    Mesh, RingLayer, VesselGeometry, layered_annulus, read_msh, rectangle, vessel_mesh,
+};
 use tecon_thermal::{EdgeBc, ThermalModel, ThetaScheme, TimeSchedule};
 
 /// Boxed error of the command layer.
@@ -366,7 +368,12 @@ pub fn parse(text: &str, file: &Path) -> CliResult<Case> {
             format!("{line}:{col}: ")
         });
         let msg = e.message().replace('\n', " ");
-        format!("{}:{}{}", display(file), at.map_or(" ".into(), |a| a), msg.trim())
+        format!(
+            "{}:{}{}",
+            display(file),
+            at.map_or(" ".into(), |a| a),
+            msg.trim()
+        )
     })?;
     case.source = file.to_path_buf();
     Ok(case)
@@ -465,7 +472,10 @@ fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
     let mesh_err = |e: tecon_mesh::MeshError| err(f, format!("mesh: {e}"));
     match (&m.file, m.generator.as_deref()) {
         (Some(_), Some(_)) => Err(err(f, "[mesh]: give either file or generator, not both")),
-        (None, None) => Err(err(f, "[mesh]: give file = \"x.msh\" or generator = \"vessel\" | \"annulus\" | \"rectangle\"")),
+        (None, None) => Err(err(
+            f,
+            "[mesh]: give file = \"x.msh\" or generator = \"vessel\" | \"annulus\" | \"rectangle\"",
+        )),
         (Some(file), None) => {
             only(&vessel_keys, "vessel")?;
             only(&annulus_keys, "annulus")?;
@@ -484,7 +494,10 @@ fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
                     .ok()
                     .and_then(|l| tecon_mesh::VesselMeshSpec::refined(l).ok())
                     .ok_or_else(|| {
-                        err(f, format!("mesh.preset = {l}: expected \"paper\" or a level 0-9"))
+                        err(
+                            f,
+                            format!("mesh.preset = {l}: expected \"paper\" or a level 0-9"),
+                        )
                     })?,
                 Some(other) => {
                     return Err(err(
@@ -495,7 +508,11 @@ fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
             };
             let d = VesselGeometry::default();
             let geo = VesselGeometry {
-                inner_radius: positive(f, "mesh.inner_radius", m.inner_radius.unwrap_or(d.inner_radius))?,
+                inner_radius: positive(
+                    f,
+                    "mesh.inner_radius",
+                    m.inner_radius.unwrap_or(d.inner_radius),
+                )?,
                 core_thickness: positive(
                     f,
                     "mesh.core_thickness",
@@ -522,7 +539,10 @@ fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
             only(&vessel_keys, "vessel")?;
             only(&rect_keys, "rectangle")?;
             if m.layer.is_empty() {
-                return Err(err(f, "mesh.layer: the annulus needs at least one [[mesh.layer]]"));
+                return Err(err(
+                    f,
+                    "mesh.layer: the annulus needs at least one [[mesh.layer]]",
+                ));
             }
             let mut layers = Vec::new();
             for (k, l) in m.layer.iter().enumerate() {
@@ -570,7 +590,9 @@ fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
         }
         (None, Some(other)) => Err(err(
             f,
-            format!("mesh.generator = \"{other}\": expected \"vessel\", \"annulus\" or \"rectangle\""),
+            format!(
+                "mesh.generator = \"{other}\": expected \"vessel\", \"annulus\" or \"rectangle\""
+            ),
         )),
     }
 }
@@ -581,16 +603,28 @@ fn materials<'c>(case: &'c Case, mesh: &Mesh) -> CliResult<Vec<&'c MaterialSecti
     let names = mesh.region_names();
     let mut per: Vec<Option<&MaterialSection>> = vec![None; names.len()];
     for (k, m) in case.material.iter().enumerate() {
-        let r = mesh.region_index(&m.region).map_err(|e| {
-            err(f, format!("material[{k}].region: {e}"))
-        })?;
+        let r = mesh
+            .region_index(&m.region)
+            .map_err(|e| err(f, format!("material[{k}].region: {e}")))?;
         if per[r].is_some() {
-            return Err(err(f, format!("material[{k}]: region '{}' has two [[material]] entries", m.region)));
+            return Err(err(
+                f,
+                format!(
+                    "material[{k}]: region '{}' has two [[material]] entries",
+                    m.region
+                ),
+            ));
         }
         let key = format!("material[{k}] (region '{}')", m.region);
         positive(f, &format!("{key}.youngs_modulus"), m.youngs_modulus)?;
         if !(m.poisson_ratio.is_finite() && m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
-            return Err(err(f, format!("{key}.poisson_ratio = {}: must lie in (-1, 0.5)", m.poisson_ratio)));
+            return Err(err(
+                f,
+                format!(
+                    "{key}.poisson_ratio = {}: must lie in (-1, 0.5)",
+                    m.poisson_ratio
+                ),
+            ));
         }
         for (name, v) in [
             ("conductivity", m.conductivity),
@@ -612,7 +646,14 @@ fn materials<'c>(case: &'c Case, mesh: &Mesh) -> CliResult<Vec<&'c MaterialSecti
         .enumerate()
         .map(|(r, m)| {
             m.ok_or_else(|| {
-                err(f, format!("region '{}' has no [[material]] (regions: {})", names[r], names.join(", ")))
+                err(
+                    f,
+                    format!(
+                        "region '{}' has no [[material]] (regions: {})",
+                        names[r],
+                        names.join(", ")
+                    ),
+                )
             })
         })
         .collect()
@@ -647,7 +688,13 @@ fn interface_scale(mesh: &Mesh, name: &str, mats: &[&MaterialSection]) -> Option
             }
         }
     }
-    let mean = |s: usize| if n[s] > 0 { h[s] / n[s] as f64 } else { f64::INFINITY };
+    let mean = |s: usize| {
+        if n[s] > 0 {
+            h[s] / n[s] as f64
+        } else {
+            f64::INFINITY
+        }
+    };
     let size = mean(0).min(mean(1));
     (size.is_finite() && e_max > 0.0).then_some((size, e_max))
 }
@@ -659,19 +706,27 @@ fn joint(
     scale: Option<(f64, f64)>,
 ) -> CliResult<(Joint, Value)> {
     let check = |name: &str, v: Option<f64>| -> CliResult<Option<f64>> {
-        v.map(|v| positive(f, &format!("{key}.{name}"), v)).transpose()
+        v.map(|v| positive(f, &format!("{key}.{name}"), v))
+            .transpose()
     };
     let k_n_given = check("k_n", j.k_n)?;
     let k_s_given = check("k_s", j.k_s)?;
     let beta = check("penalty_factor", j.penalty_factor)?;
     if k_n_given.is_some() && beta.is_some() {
-        return Err(err(f, format!("{key}: give k_n or penalty_factor, not both")));
+        return Err(err(
+            f,
+            format!("{key}: give k_n or penalty_factor, not both"),
+        ));
     }
     let k_n = match k_n_given {
         Some(k) => k,
         None => {
-            let (h, e) = scale
-                .ok_or_else(|| err(f, format!("{key}.k_n: cannot size the default penalty; give k_n")))?;
+            let (h, e) = scale.ok_or_else(|| {
+                err(
+                    f,
+                    format!("{key}.k_n: cannot size the default penalty; give k_n"),
+                )
+            })?;
             beta.unwrap_or(tecon_contact::DEFAULT_PENALTY_FACTOR) * e / h
         }
     };
@@ -679,42 +734,67 @@ fn joint(
     let law_err = |e: tecon_contact::LawError| err(f, format!("{key}: {e}"));
     let unused = |names: &[(&str, bool)]| -> CliResult<()> {
         if let Some((n, _)) = names.iter().find(|(_, s)| *s) {
-            return Err(err(f, format!("{key}.{n}: not a parameter of law = \"{}\"", j.law)));
+            return Err(err(
+                f,
+                format!("{key}.{n}: not a parameter of law = \"{}\"", j.law),
+            ));
         }
         Ok(())
     };
     let joint = match j.law.as_str() {
         "linear" => {
-            unused(&[("friction", j.friction.is_some()), ("cohesion", j.cohesion.is_some())])?;
+            unused(&[
+                ("friction", j.friction.is_some()),
+                ("cohesion", j.cohesion.is_some()),
+            ])?;
             Joint::Linear(LinearJoint::new(k_s, k_n).map_err(law_err)?)
         }
         "sticking" => {
-            unused(&[("friction", j.friction.is_some()), ("cohesion", j.cohesion.is_some())])?;
+            unused(&[
+                ("friction", j.friction.is_some()),
+                ("cohesion", j.cohesion.is_some()),
+            ])?;
             Joint::Sticking(
                 ElasticJoint::new(GhaboussiNormal::penalty(k_n).map_err(law_err)?, k_s)
                     .map_err(law_err)?,
             )
         }
         "frictional" => {
-            let mu = j
-                .friction
-                .ok_or_else(|| err(f, format!("{key}.friction: the frictional law needs a friction coefficient")))?;
+            let mu = j.friction.ok_or_else(|| {
+                err(
+                    f,
+                    format!("{key}.friction: the frictional law needs a friction coefficient"),
+                )
+            })?;
             if !(mu.is_finite() && mu >= 0.0) {
-                return Err(err(f, format!("{key}.friction = {mu}: must be non-negative")));
+                return Err(err(
+                    f,
+                    format!("{key}.friction = {mu}: must be non-negative"),
+                ));
             }
             let c = j.cohesion.unwrap_or(0.0);
             if !(c.is_finite() && c >= 0.0) {
-                return Err(err(f, format!("{key}.cohesion = {c}: must be non-negative")));
+                return Err(err(
+                    f,
+                    format!("{key}.cohesion = {c}: must be non-negative"),
+                ));
             }
             Joint::Frictional(
-                PaperJoint::new(GhaboussiNormal::penalty(k_n).map_err(law_err)?, k_s, c, mu.atan())
-                    .map_err(law_err)?,
+                PaperJoint::new(
+                    GhaboussiNormal::penalty(k_n).map_err(law_err)?,
+                    k_s,
+                    c,
+                    mu.atan(),
+                )
+                .map_err(law_err)?,
             )
         }
         other => {
             return Err(err(
                 f,
-                format!("{key}.law = \"{other}\": expected \"linear\", \"frictional\" or \"sticking\""),
+                format!(
+                    "{key}.law = \"{other}\": expected \"linear\", \"frictional\" or \"sticking\""
+                ),
             ));
         }
     };
@@ -748,27 +828,44 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         match (&i.bottom, &i.top) {
             (Some(b), Some(t)) => {
                 if mesh.interfaces().contains_key(&i.name) {
-                    return Err(err(f, format!("{key}: the mesh generator already made this interface; omit bottom and top")));
+                    return Err(err(
+                        f,
+                        format!(
+                            "{key}: the mesh generator already made this interface; omit bottom and top"
+                        ),
+                    ));
                 }
                 mesh.add_interface(&i.name, b, t, None)
                     .map_err(|e| err(f, format!("{key}: {e}")))?;
             }
             (None, None) => {
-                mesh.interface(&i.name)
-                    .map_err(|e| err(f, format!("{key}: {e}; give bottom and top edge sets to make it")))?;
+                mesh.interface(&i.name).map_err(|e| {
+                    err(
+                        f,
+                        format!("{key}: {e}; give bottom and top edge sets to make it"),
+                    )
+                })?;
             }
             _ => return Err(err(f, format!("{key}: give both bottom and top edge sets"))),
         }
         if let Some(h) = i.conductance {
             positive(f, &format!("{key}.conductance"), h)?;
             if case.thermal.is_none() {
-                return Err(err(f, format!("{key}.conductance: needs a [thermal] section")));
+                return Err(err(
+                    f,
+                    format!("{key}.conductance: needs a [thermal] section"),
+                ));
             }
         }
     }
     for name in mesh.interfaces().keys() {
         if !seen.contains_key(name) {
-            return Err(err(f, format!("the mesh has interface '{name}' but the case has no [[interface]] name = \"{name}\" with its joint")));
+            return Err(err(
+                f,
+                format!(
+                    "the mesh has interface '{name}' but the case has no [[interface]] name = \"{name}\" with its joint"
+                ),
+            ));
         }
     }
     let mats = materials(case, &mesh)?;
@@ -798,7 +895,15 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         let mut model = ThermalModel::new(&mesh);
         for (r, m) in mats.iter().enumerate() {
             let need = |name: &str, v: Option<f64>| {
-                v.ok_or_else(|| err(f, format!("material for region '{}': {name} is needed with [thermal]", names[r])))
+                v.ok_or_else(|| {
+                    err(
+                        f,
+                        format!(
+                            "material for region '{}': {name} is needed with [thermal]",
+                            names[r]
+                        ),
+                    )
+                })
             };
             let mat = tecon_thermal::Material::new(
                 need("conductivity", m.conductivity)?,
@@ -815,9 +920,17 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                 v.ok_or_else(|| err(f, format!("{key}: type = \"{}\" needs {n}", b.kind)))
             };
             let extra = |allowed: &[&str]| -> CliResult<()> {
-                for (n, s) in [("h", b.h), ("ambient", b.ambient), ("value", b.value), ("q", b.q)] {
+                for (n, s) in [
+                    ("h", b.h),
+                    ("ambient", b.ambient),
+                    ("value", b.value),
+                    ("q", b.q),
+                ] {
                     if s.is_some() && !allowed.contains(&n) {
-                        return Err(err(f, format!("{key}.{n}: not a parameter of type = \"{}\"", b.kind)));
+                        return Err(err(
+                            f,
+                            format!("{key}.{n}: not a parameter of type = \"{}\"", b.kind),
+                        ));
                     }
                 }
                 Ok(())
@@ -836,7 +949,12 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                     EdgeBc::flux(need("q", b.q)?)
                 }
                 other => {
-                    return Err(err(f, format!("{key}.type = \"{other}\": expected \"convection\", \"temperature\" or \"flux\"")));
+                    return Err(err(
+                        f,
+                        format!(
+                            "{key}.type = \"{other}\": expected \"convection\", \"temperature\" or \"flux\""
+                        ),
+                    ));
                 }
             };
             model
@@ -850,10 +968,12 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
             }
             .map_err(|e| err(f, format!("interface '{}': {e}", i.name)))?;
         }
-        let init = th
-            .initial
-            .as_ref()
-            .ok_or_else(|| err(f, "thermal.initial: [thermal] needs initial temperatures (default = ...)"))?;
+        let init = th.initial.as_ref().ok_or_else(|| {
+            err(
+                f,
+                "thermal.initial: [thermal] needs initial temperatures (default = ...)",
+            )
+        })?;
         if let Some(d) = init.default {
             model
                 .set_initial_default(d)
@@ -864,7 +984,9 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                 .set_initial_region(&r.region, r.value)
                 .map_err(|e| err(f, format!("thermal.initial.region[{k}]: {e}")))?;
         }
-        let system = model.assemble().map_err(|e| err(f, format!("thermal: {e}")))?;
+        let system = model
+            .assemble()
+            .map_err(|e| err(f, format!("thermal: {e}")))?;
         let reference = system
             .reference_temperature()
             .ok_or_else(|| err(f, "thermal.initial: no initial temperature"))?;
@@ -880,15 +1002,16 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                     Scheme::CrankNicolson => ThetaScheme::crank_nicolson(),
                     Scheme::BackwardEuler => ThetaScheme::backward_euler(),
                 };
-                let summary = tecon_thermal::run_transient(&system, &schedule, scheme, &times, |s| {
-                    states.push(Thermal {
-                        time: s.time,
-                        temperature: s.temperature.clone(),
-                        element_temperature: s.element_temperature.clone(),
-                        heat_balance: Some(s.balance.relative_residual()),
+                let summary =
+                    tecon_thermal::run_transient(&system, &schedule, scheme, &times, |s| {
+                        states.push(Thermal {
+                            time: s.time,
+                            temperature: s.temperature.clone(),
+                            element_temperature: s.element_temperature.clone(),
+                            heat_balance: Some(s.balance.relative_residual()),
+                        })
                     })
-                })
-                .map_err(|e| err(f, format!("output.times / thermal.schedule: {e}")))?;
+                    .map_err(|e| err(f, format!("output.times / thermal.schedule: {e}")))?;
                 thermal_json = json!({
                     "mode": "transient",
                     "steps": summary.steps,
@@ -897,7 +1020,10 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
             }
             None => {
                 if !times.is_empty() {
-                    return Err(err(f, "output.times: output times need a [thermal.schedule] (without one the case has a single state)"));
+                    return Err(err(
+                        f,
+                        "output.times: output times need a [thermal.schedule] (without one the case has a single state)",
+                    ));
                 }
                 if th.bc.is_empty() {
                     // No transient and no boundary conditions: the initial field is held.
@@ -929,15 +1055,24 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         }
         t_ref = Some(reference);
     } else if !times.is_empty() {
-        return Err(err(f, "output.times: output times need a [thermal] section with a schedule"));
+        return Err(err(
+            f,
+            "output.times: output times need a [thermal] section with a schedule",
+        ));
     }
     let mech = &case.mechanical;
     if let Some(r) = mech.reference_temperature {
         if t_ref.is_none() {
-            return Err(err(f, "mechanical.reference_temperature: needs a [thermal] section"));
+            return Err(err(
+                f,
+                "mechanical.reference_temperature: needs a [thermal] section",
+            ));
         }
         if !r.is_finite() {
-            return Err(err(f, format!("mechanical.reference_temperature = {r}: must be finite")));
+            return Err(err(
+                f,
+                format!("mechanical.reference_temperature = {r}: must be finite"),
+            ));
         }
         t_ref = Some(vec![r; mesh.n_triangles()]);
     }
@@ -954,7 +1089,13 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
             (Some(a), _) => a,
             (None, false) => 0.0,
             (None, true) => {
-                return Err(err(f, format!("material for region '{}': expansion is needed with [thermal]", names[r])));
+                return Err(err(
+                    f,
+                    format!(
+                        "material for region '{}': expansion is needed with [thermal]",
+                        names[r]
+                    ),
+                ));
             }
         };
         model = model
@@ -1003,15 +1144,21 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     model = model.remove_free_translations(mech.remove_free_translations);
     let al = match mech.augmented_lagrangian {
         None => Some(1e-4),
-        Some(v) if v == 0.0 => None,
-        Some(v) => Some(positive(f, "mechanical.augmented_lagrangian", v)?),
+        Some(v) => {
+            if v == 0.0 {
+                None
+            } else {
+                Some(positive(f, "mechanical.augmented_lagrangian", v)?)
+            }
+        }
     };
     let opts = SolverOptions {
         augmented_lagrangian: al,
         max_iterations: 150,
         ..Default::default()
     };
-    let mut solver = StaticSolver::new(&model, opts).map_err(|e| err(f, format!("mechanical: {e}")))?;
+    let mut solver =
+        StaticSolver::new(&model, opts).map_err(|e| err(f, format!("mechanical: {e}")))?;
     let iface_names: Vec<String> = model.interfaces().iter().map(|i| i.name.clone()).collect();
 
     let mut results = Vec::new();
@@ -1023,7 +1170,12 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     for th in targets {
         let loads = match (&th, &t_ref) {
             (Some(s), Some(r)) => Loads {
-                delta_t: s.element_temperature.iter().zip(r).map(|(t, r)| t - r).collect(),
+                delta_t: s
+                    .element_temperature
+                    .iter()
+                    .zip(r)
+                    .map(|(t, r)| t - r)
+                    .collect(),
                 ..Loads::mechanical()
             },
             _ => Loads::mechanical(),
@@ -1040,7 +1192,11 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
             eps_zz: solver.eps_zz(),
             stress: solver.stresses(),
             interface: solver.interface_results(),
-            max_iterations: reports.iter().map(|r| r.max_pass_iterations).max().unwrap_or(0),
+            max_iterations: reports
+                .iter()
+                .map(|r| r.max_pass_iterations)
+                .max()
+                .unwrap_or(0),
         });
     }
     let notes = solver.notes().to_vec();
@@ -1116,7 +1272,12 @@ fn state_summary(mesh: &Mesh, ifaces: &[String], r: &StateResult) -> Value {
     let umax = (0..n)
         .map(|i| r.displacement[2 * i].hypot(r.displacement[2 * i + 1]))
         .fold(0.0, f64::max);
-    let vm_max = r.stress.nodal.iter().map(|s| von_mises(*s)).fold(0.0, f64::max);
+    let vm_max = r
+        .stress
+        .nodal
+        .iter()
+        .map(|s| von_mises(*s))
+        .fold(0.0, f64::max);
     let mut interfaces = serde_json::Map::new();
     for (k, name) in ifaces.iter().enumerate() {
         interfaces.insert(name.clone(), interface_summary(&r.interface, k));
@@ -1203,15 +1364,24 @@ fn write_files(case: &Case, res: &CaseResult, dir: &Path) -> CliResult<Vec<Strin
     for (k, r) in res.states.iter().enumerate() {
         let vm: Vec<f64> = r.stress.nodal.iter().map(|s| von_mises(*s)).collect();
         if case.output.csv_nodal {
-            let mut s = String::from("node,x_m,y_m,T_C,ux_m,uy_m,sxx_Pa,syy_Pa,sxy_Pa,szz_Pa,von_mises_Pa\n");
+            let mut s = String::from(
+                "node,x_m,y_m,T_C,ux_m,uy_m,sxx_Pa,syy_Pa,sxy_Pa,szz_Pa,von_mises_Pa\n",
+            );
             for i in 0..n {
                 let t = r.temperature.as_ref().map_or(f64::NAN, |t| t[i]);
                 let st = r.stress.nodal[i];
                 s += &format!("{i},");
                 s += &csv_line(&[
-                    mesh.nodes()[i][0], mesh.nodes()[i][1], t,
-                    r.displacement[2 * i], r.displacement[2 * i + 1],
-                    st[0], st[1], st[2], st[3], vm[i],
+                    mesh.nodes()[i][0],
+                    mesh.nodes()[i][1],
+                    t,
+                    r.displacement[2 * i],
+                    r.displacement[2 * i + 1],
+                    st[0],
+                    st[1],
+                    st[2],
+                    st[3],
+                    vm[i],
                 ]);
                 s.push('\n');
             }
@@ -1226,8 +1396,14 @@ fn write_files(case: &Case, res: &CaseResult, dir: &Path) -> CliResult<Vec<Strin
             for p in &r.interface {
                 s += &format!("{},{},{},", res.interfaces[p.interface], p.element, p.point);
                 s += &csv_line(&[
-                    p.position[0], p.position[1], p.jump[0], p.jump[1],
-                    p.traction[0], -p.traction[1], p.slip, status(p.status),
+                    p.position[0],
+                    p.position[1],
+                    p.jump[0],
+                    p.jump[1],
+                    p.traction[0],
+                    -p.traction[1],
+                    p.slip,
+                    status(p.status),
                 ]);
                 s.push('\n');
             }
@@ -1237,15 +1413,33 @@ fn write_files(case: &Case, res: &CaseResult, dir: &Path) -> CliResult<Vec<Strin
         }
         if case.output.vtk.unwrap_or(true) {
             let name = format!("state_{k:03}.vtu");
-            let disp: Vec<[f64; 2]> = (0..n).map(|i| [r.displacement[2 * i], r.displacement[2 * i + 1]]).collect();
-            let nodal: Vec<f64> = r.stress.nodal.iter().flat_map(|v| v.iter().copied()).collect();
-            let cell: Vec<f64> = r.stress.element.iter().flat_map(|v| v.iter().copied()).collect();
+            let disp: Vec<[f64; 2]> = (0..n)
+                .map(|i| [r.displacement[2 * i], r.displacement[2 * i + 1]])
+                .collect();
+            let nodal: Vec<f64> = r
+                .stress
+                .nodal
+                .iter()
+                .flat_map(|v| v.iter().copied())
+                .collect();
+            let cell: Vec<f64> = r
+                .stress
+                .element
+                .iter()
+                .flat_map(|v| v.iter().copied())
+                .collect();
             let region: Vec<f64> = mesh.element_regions().iter().map(|&r| r as f64).collect();
             let zero = vec![0.0; n];
             let temp = r.temperature.as_deref().unwrap_or(&zero);
             let mut point_data = vec![
                 ("displacement_m", Field::Vectors(&disp)),
-                ("stress_xx_yy_xy_zz_Pa", Field::Components { n: 4, values: &nodal }),
+                (
+                    "stress_xx_yy_xy_zz_Pa",
+                    Field::Components {
+                        n: 4,
+                        values: &nodal,
+                    },
+                ),
                 ("von_mises_Pa", Field::Scalars(&vm)),
             ];
             if r.temperature.is_some() {
@@ -1259,7 +1453,13 @@ fn write_files(case: &Case, res: &CaseResult, dir: &Path) -> CliResult<Vec<Strin
                     quads: &[],
                     point_data: &point_data,
                     cell_data: &[
-                        ("stress_xx_yy_xy_zz_Pa", Field::Components { n: 4, values: &cell }),
+                        (
+                            "stress_xx_yy_xy_zz_Pa",
+                            Field::Components {
+                                n: 4,
+                                values: &cell,
+                            },
+                        ),
                         ("region", Field::Scalars(&region)),
                     ],
                 },
@@ -1284,10 +1484,16 @@ fn write_files(case: &Case, res: &CaseResult, dir: &Path) -> CliResult<Vec<Strin
                 s += &csv_line(&[p[0], p[1]]);
                 s += &format!(",{i},");
                 s += &csv_line(&[
-                    q[0], q[1],
+                    q[0],
+                    q[1],
                     r.temperature.as_ref().map_or(f64::NAN, |t| t[*i]),
-                    r.displacement[2 * i], r.displacement[2 * i + 1],
-                    st[0], st[1], st[2], st[3], von_mises(st),
+                    r.displacement[2 * i],
+                    r.displacement[2 * i + 1],
+                    st[0],
+                    st[1],
+                    st[2],
+                    st[3],
+                    von_mises(st),
                 ]);
                 s.push('\n');
             }
@@ -1295,7 +1501,10 @@ fn write_files(case: &Case, res: &CaseResult, dir: &Path) -> CliResult<Vec<Strin
         write(&dir.join("probes.csv"), &s)?;
         files.push("probes.csv".into());
     }
-    write(&dir.join("summary.json"), &serde_json::to_string_pretty(&res.summary)?)?;
+    write(
+        &dir.join("summary.json"),
+        &serde_json::to_string_pretty(&res.summary)?,
+    )?;
     files.push("summary.json".into());
     Ok(files)
 }

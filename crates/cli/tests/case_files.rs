@@ -171,7 +171,10 @@ fn unknown_key_is_named() {
 
 #[test]
 fn region_without_material_is_named() {
-    let text = edited("region = \"outer\"\nconductivity", "region = \"inner\"\nconductivity");
+    let text = edited(
+        "region = \"outer\"\nconductivity",
+        "region = \"inner\"\nconductivity",
+    );
     // two entries for inner: the duplicate is reported; drop the second instead
     let (e, _d) = error_of(&text);
     assert!(e.contains("inner"), "{e}");
@@ -185,14 +188,23 @@ fn region_without_material_is_named() {
 
 #[test]
 fn material_for_a_region_the_mesh_lacks() {
-    let (e, _d) = error_of(&edited("region = \"outer\"\nconductivity", "region = \"outre\"\nconductivity"));
-    assert!(e.contains("material[1].region") && e.contains("outre"), "{e}");
+    let (e, _d) = error_of(&edited(
+        "region = \"outer\"\nconductivity",
+        "region = \"outre\"\nconductivity",
+    ));
+    assert!(
+        e.contains("material[1].region") && e.contains("outre"),
+        "{e}"
+    );
 }
 
 #[test]
 fn edge_set_the_mesh_lacks_is_named() {
     let (e, _d) = error_of(&edited("edges = \"end\"", "edges = \"ends\""));
-    assert!(e.contains("mechanical.symmetry[1].edges") && e.contains("'ends'"), "{e}");
+    assert!(
+        e.contains("mechanical.symmetry[1].edges") && e.contains("'ends'"),
+        "{e}"
+    );
     let (e, _d) = error_of(&edited("name = \"inner_outer\"", "name = \"inner_outre\""));
     assert!(e.contains("inner_outre"), "{e}");
 }
@@ -200,25 +212,39 @@ fn edge_set_the_mesh_lacks_is_named() {
 #[test]
 fn negative_thickness_and_modulus_are_named() {
     let (e, _d) = error_of(&edited("r_out = 1.2", "r_out = 1.05"));
-    assert!(e.contains("mesh.layer[1]") && e.contains("thickness"), "{e}");
+    assert!(
+        e.contains("mesh.layer[1]") && e.contains("thickness"),
+        "{e}"
+    );
     let (e, _d) = error_of(&edited("youngs_modulus = 207e9", "youngs_modulus = -207e9"));
-    assert!(e.contains("youngs_modulus") && e.contains("region 'inner'"), "{e}");
+    assert!(
+        e.contains("youngs_modulus") && e.contains("region 'inner'"),
+        "{e}"
+    );
     let vessel = std::fs::read_to_string(cases_dir().join("vessel.toml")).unwrap();
-    let (e, _d) = error_of(&vessel.replacen("layer_thickness = 0.0064", "layer_thickness = -0.0064", 1));
+    let (e, _d) =
+        error_of(&vessel.replacen("layer_thickness = 0.0064", "layer_thickness = -0.0064", 1));
     assert!(e.contains("mesh.layer_thickness"), "{e}");
 }
 
 #[test]
 fn mesh_file_that_does_not_parse_is_named() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("broken.msh"), "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\ngarbage\n").unwrap();
+    std::fs::write(
+        dir.path().join("broken.msh"),
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\ngarbage\n",
+    )
+    .unwrap();
     let text = "[mesh]\nfile = \"broken.msh\"\n";
     let path = dir.path().join("bad.toml");
     std::fs::write(&path, text).unwrap();
     let c = case::load(&path).unwrap();
     let e = case::execute(&c, dir.path()).unwrap_err().to_string();
     assert!(!e.contains('\n'), "{e}");
-    assert!(e.contains("bad.toml") && e.contains("mesh.file") && e.contains("broken.msh"), "{e}");
+    assert!(
+        e.contains("bad.toml") && e.contains("mesh.file") && e.contains("broken.msh"),
+        "{e}"
+    );
     // a missing mesh file too
     let c = case::parse("[mesh]\nfile = \"nowhere.msh\"\n", &path).unwrap();
     let e = case::execute(&c, dir.path()).unwrap_err().to_string();
@@ -251,6 +277,11 @@ fn binary_exits_2_with_one_line_and_writes_nothing() {
     assert_eq!(o.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
-    assert!(stderr.starts_with("error: ") && stderr.contains("bad.toml") && stderr.contains("poisson_ration"), "{stderr}");
+    assert!(
+        stderr.starts_with("error: ")
+            && stderr.contains("bad.toml")
+            && stderr.contains("poisson_ration"),
+        "{stderr}"
+    );
     assert!(!out.exists(), "nothing written");
 }
