@@ -1004,8 +1004,11 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                 };
                 let summary =
                     tecon_thermal::run_transient(&system, &schedule, scheme, &times, |s| {
+                        // report the requested output time (the stepper's
+                        // clock carries round-off from summing steps)
+                        let k = states.len();
                         states.push(Thermal {
-                            time: s.time,
+                            time: times.get(k).copied().unwrap_or(s.time),
                             temperature: s.temperature.clone(),
                             element_temperature: s.element_temperature.clone(),
                             heat_balance: Some(s.balance.relative_residual()),

@@ -106,6 +106,32 @@ fn published_vessel_case_on_the_paper_mesh() {
     assert!((num(last, "/temperature_max") - 21.0).abs() < 1e-3);
 }
 
+/// The case file of the published vessel is the `tecon vessel` analysis:
+/// same mesh, data, schedule and joint, so the same interface state.
+#[test]
+fn vessel_case_file_agrees_with_tecon_vessel() {
+    let (_, res) = run_example("vessel.toml");
+    let o = tecon_cli::vessel::VesselOptions {
+        mesh: tecon_mesh::VesselMeshSpec::paper(),
+        quiet: true,
+        ..Default::default()
+    };
+    let run = tecon_cli::vessel::analyse(&o).unwrap();
+    let reference = tecon_cli::vessel::summary(&run);
+    let p_vessel = num(&reference, "/final/contact_pressure_mean");
+    let times = res.summary["times"].as_array().unwrap();
+    let p_case = num(
+        times.last().unwrap(),
+        "/interfaces/core_layer/contact_pressure_mean",
+    );
+    eprintln!("vessel contact pressure: case file {p_case:.6e}, tecon vessel {p_vessel:.6e}");
+    assert!(
+        (p_case / p_vessel - 1.0).abs() < 1e-3,
+        "{p_case} vs {p_vessel}"
+    );
+    assert_eq!(num(times.last().unwrap(), "/time"), 72000.0);
+}
+
 #[test]
 fn outputs_are_written_and_complete() {
     let (c, res) = run_example("shrink_fit.toml");
