@@ -36,6 +36,8 @@ use tecon_mesh::{
 };
 use tecon_thermal::{EdgeBc, ThermalModel, ThetaScheme, TimeSchedule};
 
+use crate::plot::{LinePlot, Series};
+
 /// Boxed error of the command layer.
 pub type CliResult<T> = Result<T, Box<dyn std::error::Error + Send + Sync>>;
 
@@ -1503,6 +1505,53 @@ fn write_files(case: &Case, res: &CaseResult, dir: &Path) -> CliResult<Vec<Strin
         }
         write(&dir.join("probes.csv"), &s)?;
         files.push("probes.csv".into());
+        // Histories at the probes (a transient with two or more output times).
+        if res.states.len() >= 2 {
+            let mut plots = vec![(
+                "probes_von_mises",
+                "von Mises stress at the probes",
+                "σ_vM [MPa]",
+                None,
+            )];
+            if res.states.iter().all(|r| r.temperature.is_some()) {
+                plots.push((
+                    "probes_temperature",
+                    "Temperature at the probes",
+                    "T [°C]",
+                    Some(()),
+                ));
+            }
+            for (stem, title, y, temperature) in plots {
+                let series = res
+                    .probes
+                    .iter()
+                    .enumerate()
+                    .map(|(k, (p, i))| Series {
+                        label: format!("probe {k} ({}, {})", p[0], p[1]),
+                        points: res
+                            .states
+                            .iter()
+                            .map(|r| {
+                                let v = match (temperature, &r.temperature) {
+                                    (Some(()), Some(t)) => t[*i],
+                                    _ => von_mises(r.stress.nodal[*i]) / 1e6,
+                                };
+                                (r.time.max(f64::MIN_POSITIVE).log10(), v)
+                            })
+                            .collect(),
+                    })
+                    .collect();
+                LinePlot {
+                    title: title.into(),
+                    x_label: "log10(time [s])".into(),
+                    y_label: y.into(),
+                    series,
+                }
+                .write_svg_png(&dir.join(stem))?;
+                files.push(format!("{stem}.svg"));
+                files.push(format!("{stem}.png"));
+            }
+        }
     }
     write(
         &dir.join("summary.json"),
@@ -1619,8 +1668,13 @@ pub fn run(args: RunArgs) -> CliResult<()> {
             Path::new("tecon-out").join(stem)
         }
     };
-    let res = execute(&case, &base)?;
-    write_outputs(&case, &res, &out)?;
+    // one line per error, whatever the solver's message holds
+    let one_line =
+        |e: Box<dyn std::error::Error + Send + Sync>| -> Box<dyn std::error::Error + Send + Sync> {
+            e.to_string().replace('\n', "; ").into()
+        };
+    let res = execute(&case, &base).map_err(one_line)?;
+    write_outputs(&case, &res, &out).map_err(one_line)?;
     if !args.quiet {
         print!("{}", report(&res));
         println!("results in {}", out.display());
