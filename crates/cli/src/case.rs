@@ -364,7 +364,7 @@ fn display(file: &Path) -> String {
 pub fn parse(text: &str, file: &Path) -> CliResult<Case> {
     let mut case: Case = toml::from_str(text).map_err(|e| {
         let at = e.span().map(|s| {
-            let before = &text[..s.start.min(text.len())];
+            let before = text.get(..s.start).unwrap_or(text);
             let line = before.matches('\n').count() + 1;
             let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
             format!("{line}:{col}: ")
