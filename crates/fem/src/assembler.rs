@@ -2,8 +2,10 @@
 //!
 //! Element kernels are evaluated in parallel (rayon) in fixed-size batches and
 //! scattered into the CSR values strictly in element order, one batch while
-//! the next is being computed. The scatter order never depends on the number
-//! of threads, so the assembled values are bitwise identical for any
+//! the next is being computed — when the kernels cost more than the scatter
+//! (timed on the first batch); cheap kernels are scattered as they are
+//! computed. The scatter order never depends on the number of threads or on
+//! that choice, so the assembled values are bitwise identical for any
 //! `RAYON_NUM_THREADS` (and identical to the serial path).
 
 use std::sync::Arc;
@@ -226,10 +228,31 @@ impl Assembler {
                 .map(|e| elements.local(e))
                 .collect_into_vec(buf);
         };
-        let mut cur = Vec::with_capacity(BATCH);
+        // The first batch, serially, timing kernels against the scatter:
+        // overlapping them only pays when the kernels are the larger part
+        // (on two cores a cheap kernel such as the CST stiffness loses more
+        // to the buffer traffic than it gains). Either path scatters in
+        // element order, so the values are the same bit for bit.
+        let mut cur: Vec<LocalSystem<N>> = Vec::with_capacity(BATCH);
         let mut next = Vec::with_capacity(BATCH);
-        compute(0, &mut cur);
-        let mut start = 0;
+        let first = BATCH.min(ne);
+        let t0 = std::time::Instant::now();
+        cur.extend((0..first).map(|e| elements.local(e)));
+        let t_kernel = t0.elapsed();
+        let t1 = std::time::Instant::now();
+        for (e, ls) in cur.iter().enumerate() {
+            scatter(values, &mut rhs, e, ls);
+        }
+        let t_scatter = t1.elapsed();
+        if t_kernel <= t_scatter {
+            for e in first..ne {
+                let ls = elements.local(e);
+                scatter(values, &mut rhs, e, &ls);
+            }
+            return Ok(());
+        }
+        compute(first, &mut cur);
+        let mut start = first;
         while start < ne {
             let next_start = start + BATCH;
             let cur_ref = &cur;
