@@ -607,26 +607,16 @@ impl<'a> StaticSolver<'a> {
         let mut max_pass = 0;
         let mut augmentations = 0;
         let mut u = self.u.clone();
-        loop {
+        // Newton passes; with the augmented Lagrangian, each pass is followed
+        // by a multiplier update until the multipliers settle. `start` is the
+        // state set the accepted pass started from.
+        let (start, history) = loop {
             let (u_new, history) = self.newton(&f_ext, loads, &committed, u.clone())?;
             total_iterations += history.len();
             max_pass = max_pass.max(history.len());
             u = u_new;
             let Some(tol) = self.options.augmented_lagrangian else {
-                let states = self.trial_states(&u, &committed);
-                return Ok((
-                    u,
-                    states,
-                    committed,
-                    IncrementReport {
-                        fraction: 0.0,
-                        iterations: total_iterations,
-                        max_pass_iterations: max_pass,
-                        augmentations,
-                        cutbacks: Vec::new(),
-                        history,
-                    },
-                ));
+                break (committed, history);
             };
             let start = committed.clone();
             // Uzawa update of the normal multipliers from the converged jumps.
@@ -655,38 +645,37 @@ impl<'a> StaticSolver<'a> {
                     max_change = max_change.max(change);
                 }
             }
-            if max_change <= tol * max_p.max(f64::MIN_POSITIVE)
-                || augmentations >= self.options.max_augmentations
-            {
-                if max_change > tol * max_p.max(f64::MIN_POSITIVE) {
-                    return Err(ElasticError::NotConverged {
-                        fraction: 0.0,
-                        increment: 0.0,
-                        reason: format!(
-                            "augmented-Lagrangian multipliers still change by {max_change:.3e} Pa after {augmentations} updates"
-                        ),
-                        history,
-                    });
-                }
-                // The last update changed almost nothing: the converged u stands
-                // (with the multipliers it was computed with).
-                let states = self.trial_states(&u, &start);
-                return Ok((
-                    u,
-                    states,
-                    start,
-                    IncrementReport {
-                        fraction: 0.0,
-                        iterations: total_iterations,
-                        max_pass_iterations: max_pass,
-                        augmentations,
-                        cutbacks: Vec::new(),
-                        history,
-                    },
-                ));
+            if max_change <= tol * max_p.max(f64::MIN_POSITIVE) {
+                // The last update changed almost nothing: the converged u
+                // stands, with the multipliers it was computed with.
+                break (start, history);
+            }
+            if augmentations >= self.options.max_augmentations {
+                return Err(ElasticError::NotConverged {
+                    fraction: 0.0,
+                    increment: 0.0,
+                    reason: format!(
+                        "augmented-Lagrangian multipliers still change by {max_change:.3e} Pa after {augmentations} updates"
+                    ),
+                    history,
+                });
             }
             augmentations += 1;
-        }
+        };
+        let states = self.trial_states(&u, &start);
+        Ok((
+            u,
+            states,
+            start,
+            IncrementReport {
+                fraction: 0.0,
+                iterations: total_iterations,
+                max_pass_iterations: max_pass,
+                augmentations,
+                cutbacks: Vec::new(),
+                history,
+            },
+        ))
     }
 
     fn newton(
