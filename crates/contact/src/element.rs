@@ -64,7 +64,9 @@ pub struct ElementResponse<S> {
 pub struct InterfaceElement {
     geometry: InterfaceGeometry,
     quadrature: InterfaceQuadrature,
-    rotation: Matrix2<f64>,
+    /// Local frame `[t; n]` of each integration point (the element's chord
+    /// frame unless smoothed normals were given).
+    rotations: [Matrix2<f64>; 2],
     points: [InterfacePoint; 2],
 }
 
@@ -97,9 +99,54 @@ impl InterfaceElement {
         Self {
             geometry,
             quadrature,
-            rotation: geometry.rotation(),
+            rotations: [geometry.rotation(); 2],
             points: geometry.points(quadrature),
         }
+    }
+
+    /// The same element with smoothed normals: `node_normals` are the
+    /// normals at the bottom nodes 1 and 2 (e.g. averaged over the elements
+    /// that share each node); each integration point takes their
+    /// interpolation, normalised, as its normal, and the tangent follows
+    /// (normal = tangent turned +90°).
+    ///
+    /// On a curved interface the chord frames of two neighbouring elements
+    /// differ, so a tangential slip `s` at a shared node shows up as normal
+    /// jumps `±s·sin(Δθ/2)` of opposite sign in the two elements: with
+    /// nodal integration one point opens while its twin stays closed. With
+    /// one normal per node both elements see the same jump there.
+    ///
+    /// # Errors
+    /// [`ContactError::Normal`] if a normal is not finite, has zero length
+    /// or turns 60° or more away from the element's chord normal.
+    pub fn with_node_normals(
+        mut self,
+        node_normals: [Vector2<f64>; 2],
+    ) -> Result<Self, ContactError> {
+        let chord = self.geometry.normal();
+        for (node, n) in node_normals.iter().enumerate() {
+            let len = n.norm();
+            if !(len.is_finite() && len > 0.0) || n.dot(&chord) < 0.5 * len {
+                return Err(ContactError::Normal {
+                    node: node + 1,
+                    normal: [n.x, n.y],
+                    chord: [chord.x, chord.y],
+                });
+            }
+        }
+        for (q, p) in self.points.iter().enumerate() {
+            let [n1, n2] = p.shape;
+            let n = (node_normals[0] / node_normals[0].norm()) * n1
+                + (node_normals[1] / node_normals[1].norm()) * n2;
+            let n = n / n.norm();
+            self.rotations[q] = Matrix2::new(n.y, -n.x, n.x, n.y);
+        }
+        Ok(self)
+    }
+
+    /// Local frame `[t; n]` (rows) of integration point `q`.
+    pub fn point_rotation(&self, q: usize) -> &Matrix2<f64> {
+        &self.rotations[q]
     }
 
     /// The shared geometry (length, frame).
@@ -117,36 +164,33 @@ impl InterfaceElement {
         &self.points
     }
 
-    /// The 2 × 8 jump operator `B` at integration point `p`.
-    pub fn b_matrix(&self, p: &InterfacePoint) -> SMatrix<f64, 2, 8> {
-        let b = p.jump_operator();
+    /// The 2 × 8 jump operator `B` at integration point `q` (0 or 1).
+    pub fn b_matrix(&self, q: usize) -> SMatrix<f64, 2, 8> {
+        let b = self.points[q].jump_operator();
         let mut out = SMatrix::<f64, 2, 8>::zeros();
         for a in 0..4 {
             out.fixed_view_mut::<2, 2>(0, 2 * a)
-                .copy_from(&(self.rotation * b[a]));
+                .copy_from(&(self.rotations[q] * b[a]));
         }
         out
     }
 
-    /// Local jump `[Δu_t, Δu_n]` at integration point `p` for nodal
-    /// displacements `u`.
+    /// Local jump `[Δu_t, Δu_n]` at integration point `q` (0 or 1) for
+    /// nodal displacements `u`.
     #[inline]
-    pub fn jump_at(&self, p: &InterfacePoint, u: &Vector8) -> Vector2<f64> {
-        let [n1, n2] = p.shape;
+    pub fn jump_at(&self, q: usize, u: &Vector8) -> Vector2<f64> {
+        let [n1, n2] = self.points[q].shape;
         let d = Vector2::new(
             n1 * (u[6] - u[0]) + n2 * (u[4] - u[2]),
             n1 * (u[7] - u[1]) + n2 * (u[5] - u[3]),
         );
-        self.rotation * d
+        self.rotations[q] * d
     }
 
     /// Local jumps at both integration points.
     #[inline]
     pub fn jumps(&self, u: &Vector8) -> [Vector2<f64>; 2] {
-        [
-            self.jump_at(&self.points[0], u),
-            self.jump_at(&self.points[1], u),
-        ]
+        [self.jump_at(0, u), self.jump_at(1, u)]
     }
 
     /// Internal force, consistent tangent and point output for nodal
@@ -160,10 +204,10 @@ impl InterfaceElement {
     ) -> ElementResponse<L::State> {
         let mut force = Vector8::zeros();
         let mut tangent = Matrix8::zeros();
-        let r = &self.rotation;
         let outputs = [0usize, 1].map(|q| {
             let p = &self.points[q];
-            let jump = self.jump_at(p, u);
+            let r = &self.rotations[q];
+            let jump = self.jump_at(q, u);
             let resp = law.evaluate(&jump, &committed[q]);
             let b = p.jump_operator();
             // Global traction and tangent: Rᵀ t, Rᵀ C R.
@@ -198,6 +242,26 @@ impl InterfaceElement {
             tangent,
             points: outputs,
         }
+    }
+
+    /// Friction fixed-point update of both points' states from the jumps at
+    /// `u` (see [`ContactLaw::update_friction`]); returns the new states and
+    /// the larger change.
+    pub fn update_friction<L: ContactLaw>(
+        &self,
+        law: &L,
+        u: &Vector8,
+        states: &[L::State; 2],
+    ) -> ([L::State; 2], f64) {
+        let j = self.jumps(u);
+        let a = [
+            law.update_friction(&j[0], &states[0]),
+            law.update_friction(&j[1], &states[1]),
+        ];
+        (
+            [a[0].state, a[1].state],
+            a[0].multiplier_change.max(a[1].multiplier_change),
+        )
     }
 
     /// Augmented-Lagrangian update of both points from converged

@@ -58,6 +58,19 @@ pub enum ContactError {
     /// A law parameter was rejected.
     #[error(transparent)]
     Law(#[from] LawError),
+    /// A smoothed normal given to an element is unusable.
+    #[error(
+        "normal ({:e}, {:e}) at interface node {node} is zero, not finite or turns 60° or more away from the element normal ({:e}, {:e})",
+        normal[0], normal[1], chord[0], chord[1]
+    )]
+    Normal {
+        /// Bottom node 1 or 2 of the element.
+        node: usize,
+        /// The normal given.
+        normal: [f64; 2],
+        /// The element's chord normal.
+        chord: [f64; 2],
+    },
 }
 
 /// Check that `value` is finite.

@@ -20,6 +20,28 @@ pub struct JointState {
     /// Augmented-Lagrangian normal multiplier `λ` (Pa), updated only by
     /// [`ContactLaw::augment`]. Zero for a pure penalty.
     pub lambda_n: f64,
+    /// Contact pressure `p_f ≥ 0` (Pa) that a [`MohrCoulomb`] law with
+    /// [`FrictionBound::Frozen`] puts in its limit `c + p_f tan φ`; updated
+    /// only by [`ContactLaw::update_friction`].
+    pub friction_pressure: f64,
+}
+
+/// How a [`MohrCoulomb`] law takes the normal pressure into its slip limit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FrictionBound {
+    /// The limit `c + σ_c tan φ` follows the current normal traction; the
+    /// tangent of a slipping point couples shear to the normal jump and is
+    /// not symmetric.
+    #[default]
+    Coupled,
+    /// The limit uses the pressure stored in the state
+    /// ([`JointState::friction_pressure`]): within one Newton pass the law is
+    /// Tresca friction, the increment is the minimum of a convex energy and
+    /// the tangent is symmetric. Between passes the solver calls
+    /// [`ContactLaw::update_friction`]; at the fixed point the stored
+    /// pressure equals the contact pressure and the answer is the
+    /// Mohr–Coulomb one.
+    Frozen,
 }
 
 /// Shared augmented-Lagrangian update of a joint with normal law `N`.
@@ -133,6 +155,7 @@ pub struct MohrCoulomb<N: NormalLaw = GhaboussiNormal> {
     cohesion: f64,
     friction_angle: f64,
     tan_phi: f64,
+    bound: FrictionBound,
 }
 
 /// The paper's joint: Ghaboussi three-stage normal law + Mohr–Coulomb
@@ -165,7 +188,19 @@ impl<N: NormalLaw> MohrCoulomb<N> {
             cohesion: c,
             friction_angle: phi,
             tan_phi: phi.tan(),
+            bound: FrictionBound::Coupled,
         })
+    }
+
+    /// The same law with the slip limit taken as `bound` says.
+    pub fn with_friction_bound(mut self, bound: FrictionBound) -> Self {
+        self.bound = bound;
+        self
+    }
+
+    /// How the slip limit takes the normal pressure.
+    pub fn friction_bound(&self) -> FrictionBound {
+        self.bound
     }
 
     /// The normal law.
@@ -234,11 +269,16 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
                 slip: state.slip,
             };
         }
-        let s_raw = self.cohesion - nr.sigma * self.tan_phi;
-        let (s, ds_dun) = if s_raw > 0.0 {
-            (s_raw, -self.tan_phi * k_n)
-        } else {
-            (0.0, 0.0)
+        let (s, ds_dun) = match self.bound {
+            FrictionBound::Coupled => {
+                let s_raw = self.cohesion - nr.sigma * self.tan_phi;
+                if s_raw > 0.0 {
+                    (s_raw, -self.tan_phi * k_n)
+                } else {
+                    (0.0, 0.0)
+                }
+            }
+            FrictionBound::Frozen => (self.strength(-committed.friction_pressure), 0.0),
         };
         let tau_trial = self.k_s * (jump.x - committed.slip);
         if tau_trial.abs() <= s {
@@ -255,7 +295,7 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             let state = JointState {
                 slip: committed.slip + sign * d_gamma,
                 accumulated_slip: committed.accumulated_slip + d_gamma,
-                lambda_n: committed.lambda_n,
+                ..*committed
             };
             LawResponse {
                 traction: Vector2::new(sign * s, nr.sigma),
@@ -269,5 +309,26 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
 
     fn augment(&self, jump: &Vector2<f64>, state: &JointState) -> Augmentation<JointState> {
         augment_normal(&self.normal, jump, state)
+    }
+
+    /// Stores the compressive normal traction at `jump` (with the state's
+    /// multiplier) as the pressure of the frozen slip limit; the change is
+    /// that of the limit, `tan φ |Δp_f|` (Pa). No change in
+    /// [`FrictionBound::Coupled`] mode.
+    fn update_friction(&self, jump: &Vector2<f64>, state: &JointState) -> Augmentation<JointState> {
+        if self.bound == FrictionBound::Coupled {
+            return Augmentation {
+                state: *state,
+                multiplier_change: 0.0,
+            };
+        }
+        let p = -self.normal.normal(jump.y, state.lambda_n).sigma;
+        Augmentation {
+            state: JointState {
+                friction_pressure: p,
+                ..*state
+            },
+            multiplier_change: self.tan_phi * (p - state.friction_pressure).abs(),
+        }
     }
 }

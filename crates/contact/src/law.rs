@@ -78,4 +78,26 @@ pub trait ContactLaw: Send + Sync + Debug {
             multiplier_change: 0.0,
         }
     }
+
+    /// Friction fixed-point hook: a new committed state whose frozen slip
+    /// limit is updated from the normal traction at the converged jump, and
+    /// the change of the limit (Pa).
+    ///
+    /// Laws whose slip limit is frozen during a Newton pass (Tresca
+    /// friction; see [`crate::FrictionBound::Frozen`]) turn the
+    /// non-symmetric Coulomb increment into a sequence of convex, symmetric
+    /// problems; the solver repeats passes, calling this between them, until
+    /// the change is small. Other laws return the state unchanged and a zero
+    /// change (the default).
+    fn update_friction(
+        &self,
+        jump: &Vector2<f64>,
+        state: &Self::State,
+    ) -> Augmentation<Self::State> {
+        let _ = jump;
+        Augmentation {
+            state: *state,
+            multiplier_change: 0.0,
+        }
+    }
 }

@@ -80,7 +80,7 @@ mod normal;
 
 pub use element::{ElementResponse, InterfaceElement, Matrix8, PointOutput, Vector8};
 pub use error::{ContactError, LawError};
-pub use joint::{ElasticJoint, JointState, MohrCoulomb, PaperJoint};
+pub use joint::{ElasticJoint, FrictionBound, JointState, MohrCoulomb, PaperJoint};
 pub use law::{Augmentation, ContactLaw, ContactStatus, LawResponse};
 pub use linear::LinearJoint;
 pub use normal::{

@@ -356,8 +356,8 @@ fn b_matrix_maps_displacements_to_jumps() {
         )
         .unwrap();
         let u = Vector8::from_fn(|i, _| 1e-6 * ((i * 7 % 5) as f64 - 2.0));
-        for (p, j) in e.points().iter().zip(e.jumps(&u)) {
-            assert_relative_eq!(e.b_matrix(p) * u, j, max_relative = 1e-12);
+        for (q, j) in e.jumps(&u).into_iter().enumerate() {
+            assert_relative_eq!(e.b_matrix(q) * u, j, max_relative = 1e-12);
         }
     }
 }
@@ -419,4 +419,86 @@ fn bad_geometry_is_a_typed_error() {
             InterfaceGeometryError::ReversedTopFace
         ))
     );
+}
+
+/// Two chords of a circle of radius `r` sharing the node at angle 0, each
+/// spanning `d` radians, running counter-clockwise: the normal (left of
+/// 1→2) points inwards, into the top body.
+fn arc_elements(r: f64, d: f64) -> [[Point2<f64>; 4]; 2] {
+    let p = |a: f64| Point2::new(r * a.cos(), r * a.sin());
+    [[p(-d), p(0.0), p(0.0), p(-d)], [p(0.0), p(d), p(d), p(0.0)]]
+}
+
+#[test]
+fn smoothed_normals_give_one_jump_at_a_shared_node() {
+    // A tangential slip s of the top face at the shared node: with chord
+    // frames the two elements see normal jumps ±s·sin(d/2) (one opens, one
+    // penetrates); with the nodal normal (radial) both see Δu_n = 0.
+    let (r, d, s) = (0.5, 0.1, 40e-6);
+    let [a, b] = arc_elements(r, d);
+    let radial = Vector2::new(-1.0, 0.0);
+    // top node of the shared pair moves tangentially (+y at angle 0)
+    let ua = Vector8::from_column_slice(&[0., 0., 0., 0., 0., s, 0., 0.]);
+    let ub = Vector8::from_column_slice(&[0., 0., 0., 0., 0., 0., 0., s]);
+    for rule in RULES {
+        let ea = InterfaceElement::with_quadrature(&a, rule).unwrap();
+        let eb = InterfaceElement::with_quadrature(&b, rule).unwrap();
+        if rule == InterfaceQuadrature::Nodal {
+            let (ja, jb) = (ea.jump_at(1, &ua), eb.jump_at(0, &ub));
+            let expected = s * (0.5 * d).sin();
+            assert_relative_eq!(ja.y, expected, max_relative = 1e-12);
+            assert_relative_eq!(jb.y, -expected, max_relative = 1e-12);
+        }
+        let na = -Vector2::new((-d).cos(), (-d).sin());
+        let nb = -Vector2::new(d.cos(), d.sin());
+        let sa = ea.with_node_normals([na, radial]).unwrap();
+        let sb = eb.with_node_normals([radial, nb]).unwrap();
+        if rule == InterfaceQuadrature::Nodal {
+            let (ja, jb) = (sa.jump_at(1, &ua), sb.jump_at(0, &ub));
+            assert!(ja.y.abs() < 1e-20 && jb.y.abs() < 1e-20, "{ja} {jb}");
+            // tangent = normal turned −90°: (0, 1) at angle 0
+            assert_relative_eq!(ja.x, s, max_relative = 1e-14);
+            assert_relative_eq!(jb.x, s, max_relative = 1e-14);
+        }
+        // frames stay orthonormal with normal = tangent turned +90°
+        for e in [&sa, &sb] {
+            for q in 0..2 {
+                let m = e.point_rotation(q);
+                assert_relative_eq!(m * m.transpose(), Matrix2::identity(), epsilon = 1e-15);
+                assert_relative_eq!(m.determinant(), 1.0, epsilon = 1e-15);
+            }
+        }
+        // consistent tangent with smoothed frames, stick and slip
+        let law = paper_joint();
+        let st = [JointState::default(); 2];
+        for (jt, jn) in [(0.1e-6, -0.6e-6), (40e-6, -0.5e-6)] {
+            let u = displacements(
+                &sa,
+                Vector2::new(1e-5, 2e-5),
+                Vector2::new(jt, jn),
+                Vector2::new(0.8 * jt, 1.3 * jn),
+            );
+            assert!(away_from_kinks(&sa, &law, &u, &st, 1e-10));
+            let err = fd_error(&sa, &law, &u, &st);
+            assert!(err < 1e-7, "{rule:?}: FD error {err:e}");
+        }
+    }
+}
+
+#[test]
+fn unusable_smoothed_normal_is_a_typed_error() {
+    let [a, _] = arc_elements(0.5, 0.1);
+    let e = InterfaceElement::new(&a).unwrap();
+    let n = e.geometry().normal();
+    for bad in [
+        Vector2::zeros(),
+        Vector2::new(f64::NAN, 1.0),
+        -n,
+        Rotation2::new(1.1) * n,
+    ] {
+        let err = e.with_node_normals([n, bad]).unwrap_err();
+        assert!(matches!(err, ContactError::Normal { node: 2, .. }), "{err}");
+        assert!(err.to_string().contains("interface node 2"), "{err}");
+    }
+    assert!(e.with_node_normals([Rotation2::new(0.9) * n, n]).is_ok());
 }

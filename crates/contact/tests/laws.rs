@@ -34,8 +34,8 @@ use approx::assert_relative_eq;
 use proptest::prelude::*;
 use tecon_contact::nalgebra::{Matrix2, Vector2};
 use tecon_contact::{
-    ContactLaw, ContactStatus, ElasticJoint, GhaboussiNormal, JointState, LawError, LinearJoint,
-    LinearNormal, MohrCoulomb, NormalLaw, NormalStage, PaperJoint, default_penalty,
+    ContactLaw, ContactStatus, ElasticJoint, FrictionBound, GhaboussiNormal, JointState, LawError,
+    LinearJoint, LinearNormal, MohrCoulomb, NormalLaw, NormalStage, PaperJoint, default_penalty,
 };
 
 const K: f64 = 1.0e12; // typical penalty, Pa/m
@@ -233,7 +233,7 @@ proptest! {
         phi_deg in 0.0..60.0_f64,
     ) {
         let law = MohrCoulomb::new(rough_ghaboussi(), 3.0e11, c, phi_deg.to_radians()).unwrap();
-        let state = JointState { slip, accumulated_slip: 0.0, lambda_n: lambda };
+        let state = JointState { slip, accumulated_slip: 0.0, lambda_n: lambda, ..Default::default() };
         let j = Vector2::new(dut, dun);
         let h = 1e-13;
         prop_assume!(same_regime(&law, &j, &state, 10.0 * h));
@@ -255,7 +255,7 @@ proptest! {
         phi_deg in 0.0..60.0_f64,
     ) {
         let law = MohrCoulomb::new(rough_ghaboussi(), 3.0e11, c, phi_deg.to_radians()).unwrap();
-        let st = JointState { slip, accumulated_slip: 1.0e-3, lambda_n: 0.0 };
+        let st = JointState { slip, accumulated_slip: 1.0e-3, lambda_n: 0.0, ..Default::default() };
         let r = law.evaluate(&Vector2::new(dut, dun), &st);
         let s = law.strength(r.traction.y);
         prop_assert!(r.traction.x.abs() <= s * (1.0 + 1e-12) + 1e-9);
@@ -425,6 +425,7 @@ fn zero_traction_when_open_even_with_cohesion() {
         slip: 2.0e-6,
         accumulated_slip: 3.0e-6,
         lambda_n: 0.0,
+        friction_pressure: 0.0,
     };
     let r = law.evaluate(&Vector2::new(-7.0e-6, 1.0e-8), &committed);
     assert_eq!(r.status, ContactStatus::Open);
@@ -508,6 +509,7 @@ fn augmented_lagrangian_update_removes_penetration_dependence() {
         slip: 1e-6,
         accumulated_slip: 2e-6,
         lambda_n: 0.5e6,
+        friction_pressure: 0.0,
     };
     let a = law.augment(&Vector2::new(0.0, -0.25e-6), &st);
     assert_relative_eq!(a.state.lambda_n, 0.75e6, max_relative = 1e-14);
@@ -619,4 +621,46 @@ fn laws_and_states_are_thread_safe_plain_data() {
     check::<PaperJoint>();
     check::<MohrCoulomb<LinearNormal>>();
     check::<ElasticJoint>();
+}
+
+#[test]
+fn frozen_bound_is_tresca_with_symmetric_tangent_and_its_fixed_point_is_coulomb() {
+    let (c, phi) = (0.1e6, 30.0_f64);
+    let coupled = friction_law(c, phi);
+    let frozen = coupled.with_friction_bound(FrictionBound::Frozen);
+    assert_eq!(coupled.friction_bound(), FrictionBound::Coupled);
+    assert_eq!(frozen.friction_bound(), FrictionBound::Frozen);
+    let jump = Vector2::new(30e-6, -2e-6); // closed and sheared past the limit
+    let p = K * 2e-6;
+    // a stored pressure p_f sets the limit c + p_f tan φ, whatever the jump
+    let st = JointState {
+        friction_pressure: 0.5 * p,
+        ..Default::default()
+    };
+    let r = frozen.evaluate(&jump, &st);
+    assert_eq!(r.status, ContactStatus::Slip);
+    let tan = phi.to_radians().tan();
+    assert_relative_eq!(r.traction.x, c + 0.5 * p * tan, max_relative = 1e-14);
+    assert_relative_eq!(r.traction.y, -p, max_relative = 1e-14);
+    // the tangent is symmetric (no shear–normal coupling) and exact
+    assert_eq!(r.tangent[(0, 1)], 0.0);
+    assert_eq!(r.tangent[(1, 0)], 0.0);
+    assert!(fd_error(&frozen, &jump, &st, 1e-13, K) < FD_TOL);
+    // one update stores the pressure; then the response is Coulomb's
+    let a = frozen.update_friction(&jump, &st);
+    assert_relative_eq!(a.state.friction_pressure, p, max_relative = 1e-14);
+    assert_relative_eq!(a.multiplier_change, 0.5 * p * tan, max_relative = 1e-12);
+    let r_fixed = frozen.evaluate(&jump, &a.state);
+    let r_coulomb = coupled.evaluate(&jump, &a.state);
+    assert_eq!(r_fixed.traction, r_coulomb.traction);
+    assert_eq!(r_fixed.state.slip, r_coulomb.state.slip);
+    assert_eq!(
+        frozen.update_friction(&jump, &a.state).multiplier_change,
+        0.0
+    );
+    // open faces store zero pressure; the coupled law never changes
+    let open = frozen.update_friction(&Vector2::new(0.0, 1e-6), &a.state);
+    assert_eq!(open.state.friction_pressure, 0.0);
+    let none = coupled.update_friction(&jump, &st);
+    assert_eq!((none.state, none.multiplier_change), (st, 0.0));
 }
