@@ -26,6 +26,10 @@ pub struct JointState {
     pub friction_pressure: f64,
 }
 
+/// Relative distance from the slip limit within which a slipping point of a
+/// frozen-limit law takes the stick stiffness as its tangent.
+const KINK_TOLERANCE: f64 = 1e-6;
+
 /// How a [`MohrCoulomb`] law takes the normal pressure into its slip limit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum FrictionBound {
@@ -297,9 +301,22 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
                 accumulated_slip: committed.accumulated_slip + d_gamma,
                 ..*committed
             };
+            // Frozen limit: a point on the limit to round-off (e.g. one that
+            // slipped in the last increment, whose trial traction is the old
+            // limit again) takes the stick stiffness — the other one-sided
+            // derivative at the kink. With the soft one, a Newton step that
+            // turns the point back into stick overshoots and the line search
+            // can only creep.
+            let k_t = if self.bound == FrictionBound::Frozen
+                && tau_trial.abs() - s <= KINK_TOLERANCE * s
+            {
+                self.k_s
+            } else {
+                0.0
+            };
             LawResponse {
                 traction: Vector2::new(sign * s, nr.sigma),
-                tangent: Matrix2::new(0.0, sign * ds_dun, 0.0, k_n),
+                tangent: Matrix2::new(k_t, sign * ds_dun, 0.0, k_n),
                 state,
                 status: ContactStatus::Slip,
                 slip: state.slip,

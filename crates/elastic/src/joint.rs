@@ -49,4 +49,14 @@ impl ContactLaw for Joint {
             Joint::Frictional(l) => l.augment(jump, state),
         }
     }
+
+    fn update_friction(&self, jump: &Vector2<f64>, state: &JointState) -> Augmentation<JointState> {
+        match self {
+            Joint::Frictional(l) => l.update_friction(jump, state),
+            _ => Augmentation {
+                state: *state,
+                multiplier_change: 0.0,
+            },
+        }
+    }
 }

@@ -35,7 +35,7 @@ pub use error::{ElasticError, IterationRecord};
 pub use joint::Joint;
 pub use kernels::{element_stress, gps_triangle, plane_triangle};
 pub use material::{Analysis, Material};
-pub use model::{Component, ElasticModel, ModelInterface};
+pub use model::{Component, ElasticModel, InterfaceNormals, ModelInterface};
 pub use solver::{
     IncrementReport, InterfacePointResult, Loads, SolverOptions, StaticSolver, StressField,
     nodal_displacement, polar, stresses, von_mises,

@@ -1,7 +1,8 @@
 //! The elastic model: mesh, materials per region, supports, loads and
 //! interfaces. Built with checked builder calls that name what is wrong.
 
-use tecon_contact::nalgebra::Point2;
+use std::collections::HashMap;
+use tecon_contact::nalgebra::{Point2, Vector2};
 use tecon_contact::{InterfaceElement, InterfaceQuadrature};
 use tecon_fem::DofMap;
 use tecon_mesh::Mesh;
@@ -18,6 +19,25 @@ pub enum Component {
     /// u_y.
     Y,
 }
+
+/// Which normal the interface points use.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum InterfaceNormals {
+    /// One normal per interface node, averaged over the elements meeting
+    /// there (weights 1/length, which gives the exact radial normal on a
+    /// circle); across a corner sharper than 45° each element keeps its own.
+    /// Two elements sharing a node then see the same jump at that node, so
+    /// a slip along a curved interface opens neither of them.
+    #[default]
+    Smoothed,
+    /// Each element's chord normal (the classical Goodman element): on a
+    /// curved interface a tangential slip `s` gives normal jumps
+    /// `±s·sin(Δθ/2)` of opposite sign in two neighbouring elements.
+    Element,
+}
+
+/// Corner angle beyond which interface normals are not averaged.
+const FEATURE_ANGLE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 /// One interface of the model: its 4-node elements and joint law.
 #[derive(Debug, Clone)]
@@ -44,6 +64,7 @@ pub struct ElasticModel<'m> {
     pub(crate) body_force: Vec<[f64; 2]>,
     pub(crate) interfaces: Vec<ModelInterface>,
     pub(crate) quadrature: InterfaceQuadrature,
+    pub(crate) normals: InterfaceNormals,
     pub(crate) remove_free_translations: bool,
 }
 
@@ -63,6 +84,7 @@ impl<'m> ElasticModel<'m> {
             body_force: vec![[0.0; 2]; mesh.region_names().len()],
             interfaces: Vec::new(),
             quadrature: InterfaceQuadrature::default(),
+            normals: InterfaceNormals::default(),
             remove_free_translations: false,
         }
     }
@@ -218,21 +240,53 @@ impl<'m> ElasticModel<'m> {
         self
     }
 
+    /// Interface point normals (smoothed by default); set it before adding
+    /// interfaces.
+    pub fn interface_normals(mut self, n: InterfaceNormals) -> Self {
+        self.normals = n;
+        self
+    }
+
     /// Joins the two faces of the mesh interface `name` with `law`.
     pub fn interface(mut self, name: &str, law: Joint) -> Result<Self, ElasticError> {
         let nodes = self.mesh.interface(name)?.elements.clone();
         let x = self.mesh.nodes();
+        let error = |k: usize, message: String| ElasticError::Interface {
+            interface: name.into(),
+            element: k,
+            message,
+        };
         let mut elements = Vec::with_capacity(nodes.len());
         for (k, el) in nodes.iter().enumerate() {
             let p = el.map(|v| Point2::new(x[v][0], x[v][1]));
-            let e = InterfaceElement::with_quadrature(&p, self.quadrature).map_err(|e| {
-                ElasticError::Interface {
-                    interface: name.into(),
-                    element: k,
-                    message: e.to_string(),
-                }
-            })?;
+            let e = InterfaceElement::with_quadrature(&p, self.quadrature)
+                .map_err(|e| error(k, e.to_string()))?;
             elements.push(e);
+        }
+        if self.normals == InterfaceNormals::Smoothed {
+            // elements meeting at each bottom node
+            let mut at_node: HashMap<usize, Vec<usize>> = HashMap::new();
+            for (k, el) in nodes.iter().enumerate() {
+                at_node.entry(el[0]).or_default().push(k);
+                at_node.entry(el[1]).or_default().push(k);
+            }
+            let chord: Vec<(Vector2<f64>, f64)> = elements
+                .iter()
+                .map(|e| (e.geometry().normal(), e.geometry().length()))
+                .collect();
+            for (k, el) in nodes.iter().enumerate() {
+                let own = chord[k].0;
+                let smoothed = [el[0], el[1]].map(|v| {
+                    at_node[&v]
+                        .iter()
+                        .map(|&f| chord[f])
+                        .filter(|(n, _)| n.dot(&own) >= FEATURE_ANGLE_COS)
+                        .fold(Vector2::zeros(), |acc, (n, l)| acc + n / l)
+                });
+                elements[k] = elements[k]
+                    .with_node_normals(smoothed)
+                    .map_err(|e| error(k, e.to_string()))?;
+            }
         }
         self.interfaces.push(ModelInterface {
             name: name.into(),

@@ -1,6 +1,18 @@
 //! The static nonlinear solver: load increments, Newton iterations with the
-//! consistent tangent, backtracking line search, contact-status convergence,
-//! ping-pong guard, step cut-back, augmented-Lagrangian outer loop.
+//! consistent tangent, line search, contact-status convergence, ping-pong
+//! guard, step cut-back, and an outer loop of augmented-Lagrangian
+//! multiplier updates and frozen friction limits.
+//!
+//! Friction (default [`FrictionBound::Frozen`]): within one Newton pass the
+//! Mohr–Coulomb limit of every point is frozen at the pressure of the
+//! previous pass, so the pass minimises a convex, piecewise-quadratic energy
+//! (bulk + penalty contact + Tresca friction). Its tangent is symmetric
+//! (Cholesky) and the step is the exact minimiser along the Newton
+//! direction (root of the directional derivative, kept bracketed). Passes
+//! repeat, with the limits set to the new pressures, until they settle: the
+//! fixed point is the Mohr–Coulomb solution. The coupled alternative
+//! ([`FrictionBound::Coupled`]) is one Newton pass on the non-symmetric
+//! tangent (LU) with backtracking on ‖R‖.
 //!
 //! Rhythm per increment (deal.II step-42 style): the predictor is the
 //! first Newton iterate from the last converged state; an increment has
@@ -9,7 +21,9 @@
 //! states (friction slip) are committed only at converged increments.
 
 use nalgebra::{Vector2, Vector3};
-use tecon_contact::{ContactStatus, ElementResponse, InterfaceElement, JointState, Vector8};
+use tecon_contact::{
+    ContactStatus, ElementResponse, FrictionBound, InterfaceElement, JointState, Vector8,
+};
 use tecon_fem::triangle::TriangleGeometry;
 use tecon_fem::{
     Assembler, AssemblerBuilder, BlockId, CholeskySolver, CsrMatrix, Dirichlet, Element, FemError,
@@ -94,8 +108,21 @@ pub struct SolverOptions {
     /// Augmented-Lagrangian outer loop: stop when the largest multiplier
     /// change is below this × the largest contact pressure (None: pure penalty).
     pub augmented_lagrangian: Option<f64>,
-    /// Most augmented-Lagrangian updates per increment.
+    /// Most outer updates (augmented-Lagrangian multipliers and frozen
+    /// friction limits) per increment.
     pub max_augmentations: usize,
+    /// How Mohr–Coulomb joints take the contact pressure into their slip
+    /// limit. [`FrictionBound::Frozen`] (default): each Newton pass solves
+    /// a Tresca problem (limit from the pressure of the previous pass) —
+    /// convex, symmetric tangent (Cholesky), exact line search on the
+    /// energy — and passes repeat until the limits settle, which gives the
+    /// Mohr–Coulomb answer. [`FrictionBound::Coupled`]: one Newton pass on
+    /// the coupled law with its non-symmetric tangent (LU) and a line search
+    /// on ‖R‖.
+    pub friction_bound: FrictionBound,
+    /// Frozen friction limits: stop the passes when the largest change of a
+    /// limit is below this × the largest contact pressure.
+    pub friction_tolerance: f64,
 }
 
 impl Default for SolverOptions {
@@ -108,7 +135,9 @@ impl Default for SolverOptions {
             min_increment: 1.0 / 1024.0,
             max_ping_pong: 4,
             augmented_lagrangian: None,
-            max_augmentations: 20,
+            max_augmentations: 30,
+            friction_bound: FrictionBound::Frozen,
+            friction_tolerance: 1e-5,
         }
     }
 }
@@ -247,6 +276,8 @@ impl Element<8> for InterfaceSet<'_> {
 /// The static nonlinear solver of one model, holding the committed state.
 pub struct StaticSolver<'a> {
     model: &'a ElasticModel<'a>,
+    /// Joint law of each interface, with the friction bound of the options.
+    laws: Vec<Joint>,
     materials: Vec<Material>,
     options: SolverOptions,
     assembler: Assembler,
@@ -332,8 +363,19 @@ impl<'a> StaticSolver<'a> {
             .iter()
             .map(|i| vec![[JointState::default(); 2]; i.nodes.len()])
             .collect();
+        let laws = model
+            .interfaces
+            .iter()
+            .map(|i| match &i.law {
+                Joint::Frictional(l) => {
+                    Joint::Frictional(l.with_friction_bound(options.friction_bound))
+                }
+                other => other.clone(),
+            })
+            .collect();
         Ok(StaticSolver {
             model,
+            laws,
             materials,
             options,
             assembler,
@@ -514,7 +556,7 @@ impl<'a> StaticSolver<'a> {
             let set = InterfaceSet {
                 nodes: &itf.nodes,
                 elements: &itf.elements,
-                law: &itf.law,
+                law: &self.laws[k],
                 u,
                 committed: &committed[k],
             };
@@ -544,32 +586,35 @@ impl<'a> StaticSolver<'a> {
         self.model
             .interfaces
             .iter()
+            .zip(&self.laws)
             .zip(committed)
-            .map(|(itf, states)| {
+            .map(|((itf, law), states)| {
                 itf.elements
                     .iter()
                     .zip(&itf.nodes)
                     .zip(states)
                     .map(|((el, n), st)| {
-                        el.evaluate(
-                            &itf.law,
-                            &Vector8::from_fn(|i, _| u[2 * n[i / 2] + i % 2]),
-                            st,
-                        )
+                        el.evaluate(law, &Vector8::from_fn(|i, _| u[2 * n[i / 2] + i % 2]), st)
                     })
                     .collect()
             })
             .collect()
     }
 
-    /// Status and traction magnitude |τ| + |σ| of every interface point.
-    fn statuses(&self, u: &[f64], committed: &[Vec<[JointState; 2]>]) -> Vec<(ContactStatus, f64)> {
+    /// Status (with the slip direction) and traction magnitude |τ| + |σ| of
+    /// every interface point.
+    fn statuses(&self, u: &[f64], committed: &[Vec<[JointState; 2]>]) -> Vec<(PointStatus, f64)> {
         self.responses(u, committed)
             .iter()
             .flatten()
             .flat_map(|r| {
-                r.points
-                    .map(|p| (p.status, p.traction.x.abs() + p.traction.y.abs()))
+                r.points.map(|p| {
+                    let backward = p.status == ContactStatus::Slip && p.traction.x < 0.0;
+                    (
+                        (p.status, backward),
+                        p.traction.x.abs() + p.traction.y.abs(),
+                    )
+                })
             })
             .collect()
     }
@@ -615,17 +660,24 @@ impl<'a> StaticSolver<'a> {
             total_iterations += history.len();
             max_pass = max_pass.max(history.len());
             u = u_new;
-            let Some(tol) = self.options.augmented_lagrangian else {
+            let al = self.options.augmented_lagrangian;
+            let frozen =
+                self.options.friction_bound == FrictionBound::Frozen && self.has_friction();
+            if al.is_none() && !frozen {
                 break (committed, history);
-            };
+            }
             let start = committed.clone();
-            // Uzawa update of the normal multipliers from the converged jumps.
+            // Outer updates from the converged jumps: Uzawa update of the
+            // normal multipliers, and the frozen friction limits set to the
+            // pressure of this pass.
             let mut max_change: f64 = 0.0;
+            let mut max_friction_change: f64 = 0.0;
             let mut max_p: f64 = 0.0;
-            for ((itf, states), responses) in self
+            for (((itf, law), states), responses) in self
                 .model
                 .interfaces
                 .iter()
+                .zip(&self.laws)
                 .zip(committed.iter_mut())
                 .zip(self.responses(&u, &start))
             {
@@ -637,17 +689,27 @@ impl<'a> StaticSolver<'a> {
                     .zip(&responses)
                 {
                     let ue = Vector8::from_fn(|i, _| u[2 * n[i / 2] + i % 2]);
-                    let (new, change) = el.augment(&itf.law, &ue, st);
                     for p in &r.points {
                         max_p = max_p.max(-p.traction.y);
                     }
-                    *st = new;
-                    max_change = max_change.max(change);
+                    if frozen {
+                        let (new, change) = el.update_friction(law, &ue, st);
+                        *st = new;
+                        max_friction_change = max_friction_change.max(change);
+                    }
+                    if al.is_some() {
+                        let (new, change) = el.augment(law, &ue, st);
+                        *st = new;
+                        max_change = max_change.max(change);
+                    }
                 }
             }
-            if max_change <= tol * max_p.max(f64::MIN_POSITIVE) {
+            let scale = max_p.max(f64::MIN_POSITIVE);
+            let al_done = al.is_none_or(|tol| max_change <= tol * scale);
+            let friction_done = max_friction_change <= self.options.friction_tolerance * scale;
+            if al_done && friction_done {
                 // The last update changed almost nothing: the converged u
-                // stands, with the multipliers it was computed with.
+                // stands, with the multipliers and limits it was computed with.
                 break (start, history);
             }
             if augmentations >= self.options.max_augmentations {
@@ -655,7 +717,7 @@ impl<'a> StaticSolver<'a> {
                     fraction: 0.0,
                     increment: 0.0,
                     reason: format!(
-                        "augmented-Lagrangian multipliers still change by {max_change:.3e} Pa after {augmentations} updates"
+                        "after {augmentations} outer updates the multipliers still change by {max_change:.3e} Pa and the friction limits by {max_friction_change:.3e} Pa (largest contact pressure {max_p:.3e} Pa)"
                     ),
                     history,
                 });
@@ -690,8 +752,8 @@ impl<'a> StaticSolver<'a> {
             u[d] = v * loads.displacement;
         }
         let mut history: Vec<IterationRecord> = Vec::new();
-        let mut prev: Option<Vec<(ContactStatus, f64)>> = None;
-        let mut prev2: Option<Vec<ContactStatus>> = None;
+        let mut prev: Option<Vec<(PointStatus, f64)>> = None;
+        let mut prev2: Option<Vec<PointStatus>> = None;
         let mut ping_pong = 0;
         let mut short_steps = 0;
         // The force scale of this increment: the largest external or internal
@@ -719,7 +781,7 @@ impl<'a> StaticSolver<'a> {
                     .count(),
                 None => status.len(),
             };
-            let status: Vec<ContactStatus> = status.iter().map(|s| s.0).collect();
+            let status: Vec<PointStatus> = status.iter().map(|s| s.0).collect();
             if prev2.as_ref().is_some_and(|p2| *p2 == status) && changed > 0 {
                 ping_pong += 1;
             }
@@ -760,29 +822,24 @@ impl<'a> StaticSolver<'a> {
                     return self.newton(f_ext, loads, committed, u);
                 }
             }
-            let symmetric = counts[2] == 0;
+            let symmetric = counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
             self.solve(&kt, &mut du, symmetric)?;
+            let du_rotated = du.clone();
             self.rotations.unrotate_vector(&mut du);
-            // Backtracking line search on ‖R‖.
-            let r0 = norm(&r);
-            let mut step = 1.0;
-            let mut best = (f64::INFINITY, 1.0);
-            for _ in 0..5 {
-                let trial: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
-                let (_, fi) = self.tangent_and_force(&trial, committed, false)?;
-                let rt = norm(&self.residual(f_ext, &fi));
-                if rt < best.0 {
-                    best = (rt, step);
-                }
-                if rt <= (1.0 - 1e-4 * step) * r0 || r0 == 0.0 {
-                    break;
-                }
-                step *= 0.5;
-            }
-            let step = if best.0.is_finite() { best.1 } else { 1.0 };
-            // Newton that only creeps (the line search keeps cutting) will not
-            // converge: give the increment back early so it can be cut.
-            short_steps = if step < 0.2 { short_steps + 1 } else { 0 };
+            let step = if symmetric {
+                self.energy_line_search(f_ext, committed, &u, &du, &du_rotated, &r)?
+            } else {
+                self.residual_line_search(f_ext, committed, &u, &du, &r)?
+            };
+            // Newton that only creeps (the line search keeps cutting while no
+            // status changes) will not converge: give the increment back early
+            // so it can be cut. Short steps that move a stick/slip or contact
+            // front by a point or two are progress.
+            short_steps = if step < 0.2 && changed == 0 {
+                short_steps + 1
+            } else {
+                0
+            };
             if short_steps >= 4 {
                 return Err(ElasticError::NotConverged {
                     fraction: 0.0,
@@ -801,7 +858,7 @@ impl<'a> StaticSolver<'a> {
             }
             prev2 = prev
                 .take()
-                .map(|p: Vec<(ContactStatus, f64)>| p.iter().map(|s| s.0).collect());
+                .map(|p: Vec<(PointStatus, f64)>| p.iter().map(|s| s.0).collect());
             prev = Some(status_t);
         }
         Err(ElasticError::NotConverged {
@@ -810,6 +867,102 @@ impl<'a> StaticSolver<'a> {
             reason: format!("no convergence in {} iterations", opts.max_iterations),
             history,
         })
+    }
+
+    /// Step along `du` to the minimum of the (convex) incremental energy:
+    /// the root of `g(α) = −R(u + α du)·du`, which increases with `α`. The
+    /// full step is taken when it does not overshoot; otherwise a few
+    /// Illinois (false-position) steps find the root. `du_rotated` is `du`
+    /// in the frame of the residual `r`.
+    fn energy_line_search(
+        &self,
+        f_ext: &[f64],
+        committed: &[Vec<[JointState; 2]>],
+        u: &[f64],
+        du: &[f64],
+        du_rotated: &[f64],
+        r: &[f64],
+    ) -> Result<f64, ElasticError> {
+        let g = |alpha: f64| -> Result<f64, ElasticError> {
+            let trial: Vec<f64> = u.iter().zip(du).map(|(a, b)| a + alpha * b).collect();
+            let (_, fi) = self.tangent_and_force(&trial, committed, false)?;
+            let rt = self.residual(f_ext, &fi);
+            Ok(-dot(&rt, du_rotated))
+        };
+        let g0 = -dot(r, du_rotated);
+        if g0.is_nan() || g0 >= 0.0 {
+            // not a descent direction (round-off at convergence): full step
+            return Ok(1.0);
+        }
+        let g1 = g(1.0)?;
+        if g1 <= 0.05 * g0.abs() {
+            return Ok(1.0);
+        }
+        // Root of g in (0, 1), g(0) < 0 < g(1), kept bracketed: false
+        // position, with a bisection whenever one end has stayed put twice
+        // (g is piecewise linear with kinks of very different slopes, where
+        // false position alone creeps). If the bracket gets tight first, the
+        // right end is taken: just past a kink, so the point that changed
+        // branch there starts the next iteration on its new branch.
+        let (mut a, mut ga, mut b, mut gb) = (0.0, g0, 1.0, g1);
+        let mut stuck = 0i32;
+        for _ in 0..60 {
+            let fp = a - ga * (b - a) / (gb - ga);
+            let x = if stuck.abs() >= 2 || !(fp > a && fp < b) {
+                stuck = 0;
+                0.5 * (a + b)
+            } else {
+                fp
+            };
+            let gx = g(x)?;
+            if gx.abs() <= 0.05 * g0.abs() {
+                return Ok(x);
+            }
+            if gx < 0.0 {
+                (a, ga) = (x, gx);
+                stuck = if stuck < 0 { stuck - 1 } else { -1 };
+            } else {
+                (b, gb) = (x, gx);
+                stuck = if stuck > 0 { stuck + 1 } else { 1 };
+            }
+            if b - a <= 1e-6 * b {
+                break;
+            }
+        }
+        Ok(b)
+    }
+
+    /// Backtracking on ‖R‖ (for the non-symmetric coupled friction law):
+    /// halve the step until the residual falls, keeping the best of five.
+    fn residual_line_search(
+        &self,
+        f_ext: &[f64],
+        committed: &[Vec<[JointState; 2]>],
+        u: &[f64],
+        du: &[f64],
+        r: &[f64],
+    ) -> Result<f64, ElasticError> {
+        let r0 = norm(r);
+        let mut step = 1.0;
+        let mut best = (f64::INFINITY, 1.0);
+        for _ in 0..5 {
+            let trial: Vec<f64> = u.iter().zip(du).map(|(a, b)| a + step * b).collect();
+            let (_, fi) = self.tangent_and_force(&trial, committed, false)?;
+            let rt = norm(&self.residual(f_ext, &fi));
+            if rt < best.0 {
+                best = (rt, step);
+            }
+            if rt <= (1.0 - 1e-4 * step) * r0 || r0 == 0.0 {
+                break;
+            }
+            step *= 0.5;
+        }
+        Ok(if best.0.is_finite() { best.1 } else { 1.0 })
+    }
+
+    /// True if an interface has a Mohr–Coulomb joint.
+    fn has_friction(&self) -> bool {
+        self.laws.iter().any(|l| matches!(l, Joint::Frictional(_)))
     }
 
     fn check_modes(&mut self, kt: &CsrMatrix) -> Result<(), ElasticError> {
@@ -972,13 +1125,22 @@ const PLANE: tecon_fem::DofMap = tecon_fem::DofMap::new(0, 2);
 /// convergence.
 const STATUS_TRACTION_FLOOR: f64 = 1e-6;
 
+/// Status of an interface point and, when it slips, whether it slips
+/// backwards (negative shear traction): a reversal of the slip direction
+/// changes the tangent as much as a change of status.
+type PointStatus = (ContactStatus, bool);
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-fn count(s: &[ContactStatus]) -> [usize; 3] {
+fn count(s: &[PointStatus]) -> [usize; 3] {
     let mut c = [0; 3];
-    for st in s {
+    for (st, _) in s {
         c[match st {
             ContactStatus::Open => 0,
             ContactStatus::Stick => 1,

@@ -6,11 +6,11 @@
 
 use std::f64::consts::PI;
 
-use tecon_contact::{GhaboussiNormal, LinearJoint, PaperJoint};
+use tecon_contact::{FrictionBound, GhaboussiNormal, LinearJoint, PaperJoint};
 use tecon_elastic::analytical::{Cylinders, LameCylinder, ShrinkFit, ThermalCylinder};
 use tecon_elastic::{
-    Analysis, Component, ElasticError, ElasticModel, Joint, Loads, Material, SolverOptions,
-    StaticSolver, polar,
+    Analysis, Component, ElasticError, ElasticModel, InterfacePointResult, Joint, Loads, Material,
+    SolverOptions, StaticSolver, polar,
 };
 use tecon_mesh::{Mesh, RingLayer, layered_annulus};
 
@@ -462,8 +462,20 @@ fn shrink_fit_matches_two_cylinder_lame_solution() {
 /// Goal: σ = −p after the pressure stage; stick below the limit; τ = c + σ_c tan φ
 /// at every point while sliding (σ_c of that point: the push tilts the
 /// pressure distribution); the slip stays when the push is partly released.
+/// Both friction iterations: the coupled law (one non-symmetric Newton pass)
+/// and frozen limits (Tresca passes to the fixed point, tolerance 1e-12 so
+/// the limit is met to 1e-8), which must also agree with each other.
 #[test]
 fn block_on_mohr_coulomb_joint() {
+    let coupled = block_on_mohr_coulomb_joint_with(FrictionBound::Coupled);
+    let frozen = block_on_mohr_coulomb_joint_with(FrictionBound::Frozen);
+    for (a, b) in coupled.iter().zip(&frozen) {
+        assert!((a.traction[0] - b.traction[0]).abs() < 1e-7 * a.traction[0].abs());
+        assert!((a.slip - b.slip).abs() < 1e-7 * a.slip.abs());
+    }
+}
+
+fn block_on_mohr_coulomb_joint_with(bound: FrictionBound) -> Vec<InterfacePointResult> {
     let mesh = stacked_blocks(0.1);
     let (c, phi, p) = (1e5, 30f64.to_radians(), 1e6);
     let k = 1e13;
@@ -490,6 +502,8 @@ fn block_on_mohr_coulomb_joint() {
         &model,
         SolverOptions {
             increments: 4,
+            friction_bound: bound,
+            friction_tolerance: 1e-12,
             ..Default::default()
         },
     )
@@ -555,6 +569,7 @@ fn block_on_mohr_coulomb_joint() {
         assert!(a.traction[0] < limit(a.traction[1]));
         assert_eq!(a.slip, b.slip, "slip is irreversible");
     }
+    slid
 }
 
 fn two_blocks() -> Mesh {
