@@ -24,9 +24,21 @@ use faer::{Conj, MatMut, Par, Side};
 use crate::error::FemError;
 use crate::pattern::{CsrMatrix, SparsityPattern};
 
-fn par() -> Par {
+/// Systems smaller than this are factorised and solved on one thread: on
+/// the 2-core reference machine faer's parallel supernodal factorisation of
+/// a 2D plane-strain system is slower below ~1e6 unknowns (1.0e5 dofs:
+/// numeric 0.21 s serial vs 0.29 s on 2 threads; 1.0e6: 5.55 s vs 5.29 s),
+/// and in a Newton loop the idle threads' spinning costs more again.
+const PARALLEL_MIN_UNKNOWNS: usize = 500_000;
+
+/// faer parallelism for a system of `n` unknowns.
+fn par(n: usize) -> Par {
     let t = rayon::current_num_threads();
-    if t <= 1 { Par::Seq } else { Par::rayon(t) }
+    if t <= 1 || n < PARALLEL_MIN_UNKNOWNS {
+        Par::Seq
+    } else {
+        Par::rayon(t)
+    }
 }
 
 /// The CSR pattern viewed as a CSC pattern (valid by construction: sorted,
@@ -117,7 +129,7 @@ impl CholeskySolver {
         same_pattern(matrix, &self.pattern)?;
         check_finite("matrix", matrix.values())?;
         self.factorised = false;
-        let p = par();
+        let p = par(self.pattern.n());
         let sym = symbolic_view(&self.pattern);
         let a = SparseColMatRef::new(sym, matrix.values());
         let req = self
@@ -170,7 +182,7 @@ impl CholeskySolver {
                 expected: self.pattern.n(),
             });
         }
-        let p = par();
+        let p = par(self.pattern.n());
         let req = self.symbolic.solve_in_place_scratch::<f64>(1, p);
         let mut mem = scratch(req)?;
         let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
@@ -206,7 +218,7 @@ impl LuSolver {
         same_pattern(matrix, &self.pattern)?;
         check_finite("matrix", matrix.values())?;
         self.factorised = false;
-        let p = par();
+        let p = par(self.pattern.n());
         let sym = symbolic_view(&self.pattern);
         let a = SparseColMatRef::new(sym, matrix.values());
         let req = self
@@ -245,7 +257,7 @@ impl LuSolver {
                 expected: self.pattern.n(),
             });
         }
-        let p = par();
+        let p = par(self.pattern.n());
         let req = self.symbolic.solve_transpose_in_place_scratch::<f64>(1, p);
         let mut mem = scratch(req)?;
         // `factorise` filled `numeric` from this `symbolic`.
