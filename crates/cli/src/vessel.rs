@@ -165,8 +165,25 @@ pub struct VesselRun {
     pub thermal_steps: usize,
     /// Notes from the solvers.
     pub notes: Vec<String>,
-    /// Wall-clock seconds of the run.
+    /// Wall-clock seconds of the analysis (mesh, heat conduction, contact).
     pub seconds: f64,
+    /// Of which: heat conduction.
+    pub thermal_seconds: f64,
+    /// Of which: the contact solves.
+    pub contact_seconds: f64,
+    /// Newton iterations and solves of the contact analysis.
+    pub newton: NewtonStats,
+}
+
+/// Work done by the contact analysis.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NewtonStats {
+    /// Newton iterations in all (every pass of every increment).
+    pub iterations: usize,
+    /// Converged increments (with cut-backs, more than the output times).
+    pub increments: usize,
+    /// Tangent factorisations / reused factors / low-rank corrected solves.
+    pub solves: tecon_fem::UpdateStats,
 }
 
 /// Cooling schedule: steps growing from 0.02 s near the start to 1000 s.
@@ -243,6 +260,7 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     let mesh = vessel_mesh(&o.geometry, &o.mesh)?;
 
     // Heat conduction.
+    let thermal_start = std::time::Instant::now();
     let mut thermal = ThermalModel::new(&mesh);
     thermal.set_material_everywhere(tecon_thermal::Material::new(
         d.conductivity,
@@ -276,7 +294,11 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         },
     )?;
 
+    let thermal_seconds = thermal_start.elapsed().as_secs_f64();
+
     // Thermoelastic contact.
+    let contact_start = std::time::Instant::now();
+    let mut newton = NewtonStats::default();
     let mat = Material {
         youngs_modulus: d.youngs_modulus,
         poisson_ratio: d.poisson_ratio,
@@ -322,6 +344,8 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
             delta_t,
             ..Loads::zero()
         })?;
+        newton.iterations += reports.iter().map(|r| r.iterations).sum::<usize>();
+        newton.increments += reports.len();
         if o.verbose {
             for r in &reports {
                 pb.suspend(|| {
@@ -368,6 +392,8 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         })?;
         pressure_only = Some((alone.stresses(), alone.displacement().to_vec()));
     }
+    newton.solves = solver.solve_stats();
+    let contact_seconds = contact_start.elapsed().as_secs_f64();
     pb.inc(1);
     pb.finish_and_clear();
     let notes = solver.notes().to_vec();
@@ -381,6 +407,9 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         thermal_steps: summary_steps(&summary),
         notes,
         seconds: start.elapsed().as_secs_f64(),
+        thermal_seconds,
+        contact_seconds,
+        newton,
     })
 }
 
@@ -592,6 +621,11 @@ pub fn summary(run: &VesselRun) -> Value {
         "newton": {
             "max_iterations_per_increment": run.results.iter().map(|r| r.max_iterations).max().unwrap_or(0),
             "max_augmentations_per_increment": run.results.iter().map(|r| r.max_augmentations).max().unwrap_or(0),
+            "iterations": run.newton.iterations,
+            "increments": run.newton.increments,
+            "factorisations": run.newton.solves.factorisations,
+            "reused_factorisations": run.newton.solves.reused,
+            "low_rank_corrected_solves": run.newton.solves.corrected,
         },
         "joint": {
             "friction": run.options.friction,
@@ -601,6 +635,8 @@ pub fn summary(run: &VesselRun) -> Value {
         },
         "notes": run.notes,
         "seconds": run.seconds,
+        "seconds_heat_conduction": run.thermal_seconds,
+        "seconds_contact": run.contact_seconds,
     });
     if let Some(last) = last {
         let profile = hoop_profile(run, &last.stress);
@@ -694,8 +730,18 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         100.0 * (ratio_ps - 1.0)
     );
     s += &format!(
-        "Newton: at most {} iterations per increment (per augmented-Lagrangian pass; at most {} multiplier updates)\n",
-        v["newton"]["max_iterations_per_increment"], v["newton"]["max_augmentations_per_increment"]
+        "Newton: {} iterations in {} increments, at most {} in one pass (at most {} outer updates of multipliers and friction limits); {} factorisations, {} reused, {} low-rank corrected\n",
+        run.newton.iterations,
+        run.newton.increments,
+        v["newton"]["max_iterations_per_increment"],
+        v["newton"]["max_augmentations_per_increment"],
+        run.newton.solves.factorisations,
+        run.newton.solves.reused,
+        run.newton.solves.corrected,
+    );
+    s += &format!(
+        "time: {:.2} s (heat conduction {:.2} s, contact {:.2} s)\n",
+        run.seconds, run.thermal_seconds, run.contact_seconds
     );
     for n in &run.notes {
         s += &format!("note: {n}\n");

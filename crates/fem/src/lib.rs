@@ -27,6 +27,7 @@ pub mod pattern;
 pub mod reference;
 pub mod solver;
 pub mod triangle;
+pub mod update;
 
 pub use assembler::{Assembler, AssemblerBuilder, BlockId, Element, LocalSystem, Parallelism};
 pub use constraints::{Dirichlet, PreparedDirichlet};
@@ -35,3 +36,4 @@ pub use error::FemError;
 pub use modes::{RigidMode, check_rigid_modes, plane_rigid_modes, scalar_mode};
 pub use pattern::{CsrMatrix, SparsityPattern};
 pub use solver::{CholeskySolver, LuSolver, relative_residual};
+pub use update::{SolveKind, UpdateStats, UpdatedCholesky};

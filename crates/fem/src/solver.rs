@@ -172,21 +172,36 @@ impl CholeskySolver {
 
     /// Solves A x = b in place (b ← x).
     pub fn solve(&self, rhs: &mut [f64]) -> Result<(), FemError> {
+        self.solve_many(rhs, 1)
+    }
+
+    /// Solves A X = B in place for `k` right-hand sides stored one after the
+    /// other (column-major n × k); one pass over the factor for all of them.
+    pub fn solve_many(&self, rhs: &mut [f64], k: usize) -> Result<(), FemError> {
         if !self.factorised {
             return Err(FemError::NotFactorised);
         }
-        if rhs.len() != self.pattern.n() {
+        let n = self.pattern.n();
+        if rhs.len() != n * k {
             return Err(FemError::LengthMismatch {
-                what: "right-hand side".into(),
+                what: "right-hand sides".into(),
                 got: rhs.len(),
-                expected: self.pattern.n(),
+                expected: n * k,
             });
         }
-        let p = par(self.pattern.n());
-        let req = self.symbolic.solve_in_place_scratch::<f64>(1, p);
+        if k == 0 {
+            return Ok(());
+        }
+        let p = par(n);
+        let req = self.symbolic.solve_in_place_scratch::<f64>(k, p);
         let mut mem = scratch(req)?;
         let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
-        llt.solve_in_place_with_conj(Conj::No, as_col(rhs), p, MemStack::new(&mut mem));
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, k),
+            p,
+            MemStack::new(&mut mem),
+        );
         check_finite("solution", rhs)
     }
 }
