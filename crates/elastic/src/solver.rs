@@ -808,11 +808,16 @@ impl<'a> StaticSolver<'a> {
             }
             let counts = count(&status);
             let last_correction = history.last().map_or(f64::INFINITY, |h| h.correction);
+            // After a full step with no status change the linearisation was
+            // exact (the problem is piecewise linear), so the residual alone
+            // measures the error; otherwise the correction must be small too.
+            let full_step = history.last().is_some_and(|h| h.step == 1.0);
             let converged = it > 0
                 && rel <= opts.residual_tolerance
                 && changed == 0
                 && (last_correction <= opts.correction_tolerance
-                    || rel <= opts.residual_tolerance * 1e-3);
+                    || rel <= opts.residual_tolerance * 1e-3
+                    || full_step);
             history.push(IterationRecord {
                 iteration: it,
                 residual: rel,
