@@ -26,15 +26,28 @@ pub struct MeshArgs {
 
 /// Parses a `--mesh`/`--preset` value into a vessel mesh spec.
 pub fn parse_preset(preset: &str) -> Result<VesselMeshSpec, String> {
-    match preset {
+    let bad = || {
+        format!(
+            "--preset '{preset}': expected 'paper', a refinement level 0-9, 'xF' (every paper interval in F parts) or 'tN' (about N triangles)"
+        )
+    };
+    let spec = match preset {
         "paper" => Ok(VesselMeshSpec::paper()),
         other => {
-            let level: u32 = other.parse().map_err(|_| {
-                format!("--preset '{other}': expected 'paper' or a refinement level 0-9")
-            })?;
-            VesselMeshSpec::refined(level).map_err(|e| e.to_string())
+            if let Some(f) = other.strip_prefix('x') {
+                VesselMeshSpec::subdivided(f.parse().map_err(|_| bad())?)
+            } else if let Some(n) = other.strip_prefix('t') {
+                let n: f64 = n.parse().map_err(|_| bad())?;
+                if !(n.is_finite() && n >= 1.0) {
+                    return Err(bad());
+                }
+                VesselMeshSpec::with_triangles(n as usize)
+            } else {
+                VesselMeshSpec::refined(other.parse().map_err(|_| bad())?)
+            }
         }
-    }
+    };
+    spec.map_err(|e| format!("--preset '{preset}': {e}"))
 }
 
 /// Runs `tecon mesh`.

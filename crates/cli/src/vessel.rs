@@ -1167,8 +1167,10 @@ fn write_state_vtu(
 /// Arguments of `tecon vessel`.
 #[derive(clap::Args, Debug)]
 pub struct VesselArgs {
-    /// Mesh: `paper` (108 nodes, 136 triangles, 17 interface elements) or a
-    /// refinement level 0–9 (136·4^level triangles); default 2.
+    /// Mesh: `paper` (108 nodes, 136 triangles, 17 interface elements), a
+    /// refinement level 0–9 (136·4^level triangles), `xF` (every paper
+    /// interval in F parts, 136·F² triangles) or `tN` (about N triangles,
+    /// e.g. `t1e5`); default 2.
     #[arg(long, default_value = "2")]
     pub mesh: String,
     /// Friction coefficient μ = tan φ of the core/layer joint.

@@ -90,6 +90,32 @@ impl VesselMeshSpec {
         }
     }
 
+    /// The paper mesh with every interval divided into `factor` parts
+    /// (136·factor² triangles; `refined(L)` is `subdivided(2^L)`).
+    pub fn subdivided(factor: usize) -> Result<Self, MeshError> {
+        if !(1..=2048).contains(&factor) {
+            return Err(MeshError::InvalidParameter {
+                name: "subdivision",
+                value: factor.to_string(),
+                reason: "divide every interval into 1..=2048 parts".into(),
+            });
+        }
+        Ok(VesselMeshSpec {
+            core_rows: 2 * factor,
+            layer_rows: 2 * factor,
+            stations: 17 * factor + 1,
+            weld_divisions: factor,
+            ..Self::paper()
+        })
+    }
+
+    /// The subdivision of the paper mesh closest to `triangles` triangles
+    /// (e.g. 100 000 → every interval in 27 parts, 99 144 triangles).
+    pub fn with_triangles(triangles: usize) -> Result<Self, MeshError> {
+        let factor = ((triangles as f64 / 136.0).sqrt().round() as usize).max(1);
+        Self::subdivided(factor)
+    }
+
     /// Refinement level `level` of the paper mesh: every interval halved `level`
     /// times (136·4^level triangles; level 7 has 2.2·10⁶).
     pub fn refined(level: u32) -> Result<Self, MeshError> {
@@ -100,14 +126,7 @@ impl VesselMeshSpec {
                 reason: "refinement levels 0..=9 are offered (level 9 has 3.6e7 triangles)".into(),
             });
         }
-        let f = 1usize << level;
-        Ok(VesselMeshSpec {
-            core_rows: 2 * f,
-            layer_rows: 2 * f,
-            stations: 17 * f + 1,
-            weld_divisions: f,
-            ..Self::paper()
-        })
+        Self::subdivided(1usize << level)
     }
 
     /// Number of triangles this spec produces.
