@@ -729,6 +729,31 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         "the plane-strain consistent model gives {:.0} % more pressure than the classical plane-stress one (the paper's FE was ~50 % above its analytical values)\n",
         100.0 * (ratio_ps - 1.0)
     );
+    let dev = |fe: &str, an: &str| 100.0 * (f(fe) / f(an) - 1.0);
+    let c = "/analytical_variants/plane_strain_consistent";
+    s += &format!(
+        "FE against the plane-strain consistent model: contact pressure {:+.1} %, hoop core inner {:+.1} %, core outer {:+.1} %, layer inner {:+.1} %, layer outer {:+.1} %\n",
+        dev(
+            "/final/contact_pressure_mean",
+            &format!("{c}/contact_pressure")
+        ),
+        dev(
+            "/final/hoop_mean/core_inner",
+            &format!("{c}/hoop/core_inner")
+        ),
+        dev(
+            "/final/hoop_mean/core_outer",
+            &format!("{c}/hoop/core_outer")
+        ),
+        dev(
+            "/final/hoop_mean/layer_inner",
+            &format!("{c}/hoop/layer_inner")
+        ),
+        dev(
+            "/final/hoop_mean/layer_outer",
+            &format!("{c}/hoop/layer_outer")
+        ),
+    );
     s += &format!(
         "Newton: {} iterations in {} increments, at most {} in one pass (at most {} outer updates of multipliers and friction limits); {} factorisations, {} reused, {} low-rank corrected\n",
         run.newton.iterations,

@@ -1,0 +1,49 @@
+//! The whole published case, `tecon vessel` without the output files: mesh,
+//! transient heat conduction (292 Crank–Nicolson steps to 72 000 s) and the
+//! thermoelastic contact solves at the six output times.
+//!
+//! ```text
+//! cargo bench -p tecon --bench vessel
+//! ```
+//!
+//! Sizes: the paper mesh (136 triangles; goal < 1 s) and the subdivision of
+//! the paper mesh closest to 10⁵ triangles (every interval in 27 parts:
+//! 99 144 triangles, 50 600 nodes, 459 interface elements; goal < 60 s).
+//! Before measuring, one run prints its Newton iterations and solves.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use tecon::mesh::VesselMeshSpec;
+use tecon_cli::vessel::{VesselOptions, analyse};
+
+fn vessel(c: &mut Criterion) {
+    let mut g = c.benchmark_group("vessel");
+    g.sample_size(10);
+    for (name, spec) in [
+        ("paper", Ok(VesselMeshSpec::paper())),
+        ("1e5_triangles", VesselMeshSpec::with_triangles(100_000)),
+    ] {
+        let spec = spec.expect("mesh spec");
+        let o = VesselOptions {
+            mesh: spec,
+            quiet: true,
+            ..Default::default()
+        };
+        let run = analyse(&o).expect("vessel run");
+        eprintln!(
+            "{name}: {} triangles, {} Newton iterations in {} increments, {:?}; heat conduction {:.2} s, contact {:.2} s",
+            run.mesh.n_triangles(),
+            run.newton.iterations,
+            run.newton.increments,
+            run.newton.solves,
+            run.thermal_seconds,
+            run.contact_seconds
+        );
+        g.bench_with_input(BenchmarkId::new("full_run", name), &o, |b, o| {
+            b.iter(|| analyse(o).expect("vessel run"))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, vessel);
+criterion_main!(benches);
