@@ -306,3 +306,29 @@ fn gmsh_two_blocks_transmit_the_pressure() {
         assert!((sxx / -p - 1.0).abs() < 1e-3, "{r}: {sxx}");
     }
 }
+
+/// `normals` of a joint: "smoothed" (default) or "element"; anything else
+/// is named. On the axisymmetric shrink fit (no slip) both give the Lamé
+/// pressure to the same 0.1 %.
+#[test]
+fn joint_normals_choice() {
+    let (e, _d) = error_of(&edited(
+        "cohesion = 0.0",
+        "cohesion = 0.0\nnormals = \"nodal\"",
+    ));
+    assert!(e.contains("normals") && e.contains("nodal"), "{e}");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("element.toml");
+    std::fs::write(
+        &path,
+        edited("cohesion = 0.0", "cohesion = 0.0\nnormals = \"element\""),
+    )
+    .unwrap();
+    let c = case::load(&path).unwrap();
+    let res = case::execute(&c, &cases_dir()).unwrap();
+    let p = num(
+        &res.summary,
+        "/times/0/interfaces/inner_outer/contact_pressure_mean",
+    );
+    assert!((p / 8.390324e6 - 1.0).abs() < 1e-3, "{p}");
+}

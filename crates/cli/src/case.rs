@@ -27,8 +27,8 @@ use serde::Deserialize;
 use serde_json::{Value, json};
 use tecon_contact::{ContactStatus, ElasticJoint, GhaboussiNormal, LinearJoint, PaperJoint};
 use tecon_elastic::{
-    Analysis, Component, ElasticModel, InterfacePointResult, Joint, Loads, Material, SolverOptions,
-    StaticSolver, StressField, polar, von_mises,
+    Analysis, Component, ElasticModel, InterfaceNormals, InterfacePointResult, Joint, Loads,
+    Material, SolverOptions, StaticSolver, StressField, polar, von_mises,
 };
 use tecon_mesh::vtk::{Field, VtuPiece, write_pvd, write_vtu};
 use tecon_mesh::{
@@ -174,6 +174,9 @@ pub struct JointSection {
     pub friction: Option<f64>,
     /// Cohesion c, Pa (frictional, default 0).
     pub cohesion: Option<f64>,
+    /// Normals of the interface points: `"smoothed"` (default, one per
+    /// node) or `"element"` (each element's chord, the classical element).
+    pub normals: Option<String>,
 }
 
 /// `[thermal]`.
@@ -1142,7 +1145,18 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
             .ok_or_else(|| err(f, format!("{key}: missing [interface.joint] (law = \"frictional\" | \"linear\" | \"sticking\")")))?;
         let (law, info) = joint(f, &key, j, interface_scale(&mesh, &i.name, &mats))?;
         joints_json.insert(i.name.clone(), info);
+        let normals = match j.normals.as_deref() {
+            None | Some("smoothed") => InterfaceNormals::Smoothed,
+            Some("element") => InterfaceNormals::Element,
+            Some(other) => {
+                return Err(err(
+                    f,
+                    format!("{key}.normals = \"{other}\": expected \"smoothed\" or \"element\""),
+                ));
+            }
+        };
         model = model
+            .interface_normals(normals)
             .interface(&i.name, law)
             .map_err(|e| err(f, format!("{key}: {e}")))?;
     }

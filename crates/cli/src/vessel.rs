@@ -18,8 +18,8 @@ use serde_json::{Value, json};
 use tecon_contact::{GhaboussiNormal, PaperJoint};
 use tecon_elastic::analytical::{Cylinders, ShrinkFit};
 use tecon_elastic::{
-    Analysis, ElasticModel, InterfacePointResult, Joint, Loads, Material, SolverOptions,
-    StaticSolver, StressField, polar, von_mises,
+    Analysis, ElasticModel, InterfaceNormals, InterfacePointResult, Joint, Loads, Material,
+    SolverOptions, StaticSolver, StressField, polar, von_mises,
 };
 use tecon_mesh::vtk::{Field, VtuPiece, write_pvd, write_vtu};
 use tecon_mesh::{Mesh, VesselGeometry, VesselMeshSpec, vessel_mesh};
@@ -95,6 +95,9 @@ pub struct VesselOptions {
     pub times: Vec<f64>,
     /// Plane strain (default) or generalised plane strain.
     pub analysis: Analysis,
+    /// Interface point normals: smoothed per node (default) or each
+    /// element's chord (the classical element).
+    pub normals: InterfaceNormals,
     /// Quiet: no progress bar.
     pub quiet: bool,
     /// Print the Newton iteration history of every increment to stderr.
@@ -114,6 +117,7 @@ impl Default for VesselOptions {
             pressure: None,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
             analysis: Analysis::PlaneStrain,
+            normals: InterfaceNormals::Smoothed,
             quiet: false,
             verbose: false,
         }
@@ -313,6 +317,7 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         o.friction.atan(),
     )?;
     let mut model = ElasticModel::new(&mesh, o.analysis)
+        .interface_normals(o.normals)
         .material_everywhere(mat)?
         .symmetry("sym0")?
         .symmetry("sym180")?
@@ -1216,6 +1221,10 @@ pub struct VesselArgs {
     /// Pure penalty contact (no augmented-Lagrangian update).
     #[arg(long)]
     pub penalty_only: bool,
+    /// Each interface element's own chord normal (the classical Goodman
+    /// element, as in the paper) instead of one smoothed normal per node.
+    #[arg(long)]
+    pub element_normals: bool,
     /// Output times, s (comma-separated; the last ends the cooling).
     #[arg(long, value_delimiter = ',', default_value = "1,10,60,600,3600,72000")]
     pub times: Vec<f64>,
@@ -1252,6 +1261,11 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
             Analysis::PlaneStrain
         },
         augmented_lagrangian: if args.penalty_only { None } else { Some(1e-4) },
+        normals: if args.element_normals {
+            InterfaceNormals::Element
+        } else {
+            InterfaceNormals::Smoothed
+        },
         quiet: args.quiet,
         verbose: args.verbose,
         ..VesselOptions::default()

@@ -244,26 +244,6 @@ impl InterfaceElement {
         }
     }
 
-    /// Friction fixed-point update of both points' states from the jumps at
-    /// `u` (see [`ContactLaw::update_friction`]); returns the new states and
-    /// the larger change.
-    pub fn update_friction<L: ContactLaw>(
-        &self,
-        law: &L,
-        u: &Vector8,
-        states: &[L::State; 2],
-    ) -> ([L::State; 2], f64) {
-        let j = self.jumps(u);
-        let a = [
-            law.update_friction(&j[0], &states[0]),
-            law.update_friction(&j[1], &states[1]),
-        ];
-        (
-            [a[0].state, a[1].state],
-            a[0].multiplier_change.max(a[1].multiplier_change),
-        )
-    }
-
     /// Augmented-Lagrangian update of both points from converged
     /// displacements `u` (see [`ContactLaw::augment`]): the new committed
     /// states and the largest multiplier change (Pa).
@@ -273,11 +253,31 @@ impl InterfaceElement {
         u: &Vector8,
         states: &[L::State; 2],
     ) -> ([L::State; 2], f64) {
+        self.update_points(u, states, |j, s| law.augment(j, s))
+    }
+
+    /// Friction fixed-point update of both points' states from the jumps at
+    /// `u` (see [`ContactLaw::update_friction`]); returns the new states and
+    /// the larger change.
+    pub fn update_friction<L: ContactLaw>(
+        &self,
+        law: &L,
+        u: &Vector8,
+        states: &[L::State; 2],
+    ) -> ([L::State; 2], f64) {
+        self.update_points(u, states, |j, s| law.update_friction(j, s))
+    }
+
+    /// Applies a between-passes update to both points' states at their
+    /// jumps; the new states and the larger change.
+    fn update_points<S: Copy>(
+        &self,
+        u: &Vector8,
+        states: &[S; 2],
+        update: impl Fn(&Vector2<f64>, &S) -> Augmentation<S>,
+    ) -> ([S; 2], f64) {
         let j = self.jumps(u);
-        let a: [Augmentation<L::State>; 2] = [
-            law.augment(&j[0], &states[0]),
-            law.augment(&j[1], &states[1]),
-        ];
+        let a = [update(&j[0], &states[0]), update(&j[1], &states[1])];
         (
             [a[0].state, a[1].state],
             a[0].multiplier_change.max(a[1].multiplier_change),

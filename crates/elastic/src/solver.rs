@@ -137,7 +137,7 @@ impl Default for SolverOptions {
             augmented_lagrangian: None,
             max_augmentations: 30,
             friction_bound: FrictionBound::Frozen,
-            friction_tolerance: 1e-5,
+            friction_tolerance: 1e-4,
         }
     }
 }
