@@ -1228,7 +1228,7 @@ pub struct VesselArgs {
     /// Output times, s (comma-separated; the last ends the cooling).
     #[arg(long, value_delimiter = ',', default_value = "1,10,60,600,3600,72000")]
     pub times: Vec<f64>,
-    /// `--study mesh`: the case on meshes paper, 0, 1, 2, 3 with a convergence table.
+    /// `--study mesh`: the case on meshes paper, 1, 2, 3, 4 with a convergence table.
     #[arg(long)]
     pub study: Option<String>,
     /// Output folder.
@@ -1292,8 +1292,9 @@ pub fn run(args: VesselArgs) -> CliResult<()> {
 /// The mesh-convergence study.
 pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    // level 0 is the paper mesh
     let mut specs = vec![("paper".to_string(), VesselMeshSpec::paper())];
-    for l in 0..=3 {
+    for l in 1..=4 {
         specs.push((l.to_string(), VesselMeshSpec::refined(l)?));
     }
     let mut table = Vec::new();
