@@ -199,3 +199,25 @@ fn chord_normals_converge_to_the_smoothed_result() {
         assert!(ratio > 0.3 && ratio < 0.65, "halving h: ratio {ratio}");
     }
 }
+
+/// The same numbers whatever the thread count (level 1; bitwise).
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let runs: Vec<[f64; 3]> = [1, 2, 3]
+        .iter()
+        .map(|&t| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .unwrap();
+            let (v, _) = pool.install(|| run(VesselMeshSpec::refined(1).unwrap()));
+            [
+                f(&v, "/final/hoop_mean/layer_outer"),
+                f(&v, "/final/contact_pressure_mean"),
+                f(&v, "/final/hoop_force_balance"),
+            ]
+        })
+        .collect();
+    assert_eq!(runs[0], runs[1]);
+    assert_eq!(runs[0], runs[2]);
+}
