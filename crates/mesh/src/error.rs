@@ -85,7 +85,8 @@ pub enum MeshError {
     },
     /// Interface edges whose nodes do not face each other.
     #[error(
-        "interface '{interface}': node {bottom} at ({x}, {y}) on '{bottom_set}' has no facing node on '{top_set}' within {tolerance:.3e}"
+        "interface '{interface}': node {bottom} at ({x}, {y}) on '{bottom_set}' has no facing node on '{top_set}': facing nodes must coincide (within {tolerance:.3e}){}",
+        nearest_text(*.nearest, *.distance)
     )]
     InterfaceNotFacing {
         /// Interface name.
@@ -100,8 +101,54 @@ pub enum MeshError {
         x: f64,
         /// y coordinate.
         y: f64,
+        /// The nearest node of the top set (`usize::MAX` if it has none).
+        nearest: usize,
+        /// Its distance (infinite if the top set has no nodes).
+        distance: f64,
         /// Distance tolerance used.
         tolerance: f64,
+    },
+    /// The mid nodes of a quadratic interface element do not face each other.
+    #[error(
+        "interface '{interface}': mid node {bottom} of the bottom face and mid node {top} of the top face are {distance:.3e} apart (tolerance {tolerance:.3e}); facing nodes must coincide"
+    )]
+    InterfaceMidNotFacing {
+        /// Interface name.
+        interface: String,
+        /// Bottom mid node.
+        bottom: usize,
+        /// Top mid node.
+        top: usize,
+        /// Their distance.
+        distance: f64,
+        /// Tolerance used.
+        tolerance: f64,
+    },
+    /// A mid node of a 6-node triangle that does not fit the mesh.
+    #[error("triangle {element}: node {mid}, the mid node of edge ({a}, {b}), is wrong: {reason}")]
+    InconsistentMidNode {
+        /// Element index.
+        element: usize,
+        /// Edge corner.
+        a: usize,
+        /// Edge corner.
+        b: usize,
+        /// The mid node.
+        mid: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A curved triangle whose isoparametric map folds over.
+    #[error(
+        "triangle {element} is inverted or too distorted by its curved edges: det J at node {node} is {det_ratio:.3e} of the straight triangle's (a mid node too far from its edge's midpoint?)"
+    )]
+    InvertedCurvedTriangle {
+        /// Element index.
+        element: usize,
+        /// The node where det J is not positive.
+        node: usize,
+        /// det J there over det J of the straight-sided triangle.
+        det_ratio: f64,
     },
     /// Interface edge pair whose top edge is missing from the top set.
     #[error(
@@ -183,4 +230,12 @@ pub enum MeshError {
         /// What is wrong.
         message: String,
     },
+}
+
+fn nearest_text(nearest: usize, distance: f64) -> String {
+    if distance.is_finite() {
+        format!("; the nearest, node {nearest}, is {distance:.3e} away")
+    } else {
+        "; the top set has no nodes".into()
+    }
 }

@@ -3,6 +3,58 @@
 use crate::error::MeshError;
 use crate::mesh::{Mesh, signed_area};
 
+/// Checks an element order (1 or 2).
+pub(crate) fn check_order(order: usize) -> Result<(), MeshError> {
+    if order == 1 || order == 2 {
+        Ok(())
+    } else {
+        Err(MeshError::InvalidParameter {
+            name: "order",
+            value: order.to_string(),
+            reason: "the element order is 1 (3-node) or 2 (6-node triangles)".into(),
+        })
+    }
+}
+
+/// [`rectangle`] of element order 1 or 2 (straight edges, mid nodes at the
+/// chord midpoints; node sets `left`, … gain the mid nodes of their edges).
+pub fn rectangle_of_order(
+    x0: f64,
+    y0: f64,
+    lx: f64,
+    ly: f64,
+    nx: usize,
+    ny: usize,
+    order: usize,
+) -> Result<Mesh, MeshError> {
+    check_order(order)?;
+    let m = rectangle(x0, y0, lx, ly, nx, ny)?;
+    if order == 2 {
+        m.to_quadratic(&[])
+    } else {
+        Ok(m)
+    }
+}
+
+/// [`layered_annulus`] of element order 1 or 2. At order 2 every mid node is
+/// the polar midpoint of its edge: edges along a node row (inner, outer,
+/// interface and interior rows) lie on their circle, radial edges are
+/// straight, diagonals follow the polar map.
+pub fn layered_annulus_of_order(
+    layers: &[RingLayer],
+    theta0: f64,
+    theta1: f64,
+    segments: usize,
+    order: usize,
+) -> Result<Mesh, MeshError> {
+    check_order(order)?;
+    let m = layered_annulus(layers, theta0, theta1, segments)?;
+    if order == 1 {
+        return Ok(m);
+    }
+    m.to_quadratic_polar([0.0, 0.0])
+}
+
 /// A structured rectangle [x0, x0+lx] × [y0, y0+ly] of `nx` × `ny` cells,
 /// each cut into two triangles (diagonals alternating).
 ///

@@ -2,26 +2,12 @@
 
 use std::collections::{BTreeMap, HashMap};
 
+use crate::checks::{check_duplicates, find_bodies, longest_edge_sq, unknown};
 use crate::error::MeshError;
+pub use crate::interface::Interface;
 
 /// A 2D point `[x, y]`.
 pub type Point = [f64; 2];
-
-/// A named interface: ordered 4-node elements joining two bodies.
-///
-/// Node order of each element (DESIGN.md §2): 1, 2 on the bottom face, 3, 4 on
-/// the top face, 4 facing 1 and 3 facing 2. The bottom face is ordered so that
-/// the top body lies on the left of 1→2: the left normal of 1→2 points from
-/// the bottom body into the top body.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Interface {
-    /// Edge set of the bottom face.
-    pub bottom_set: String,
-    /// Edge set of the top face.
-    pub top_set: String,
-    /// Elements `[n1, n2, n3, n4]`.
-    pub elements: Vec<[usize; 4]>,
-}
 
 /// A connected body: the triangles reachable from each other through shared nodes.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,21 +41,29 @@ impl std::fmt::Display for MeshNotice {
     }
 }
 
-/// A 2D mesh of linear triangles with named sets.
+/// A 2D mesh of linear (P1, 3-node) or quadratic (P2, 6-node) triangles
+/// with named sets.
 ///
-/// Build it with [`Mesh::new`], which validates and normalises the input.
+/// Build a P1 mesh with [`Mesh::new`], which validates and normalises the
+/// input; a P2 mesh with [`Mesh::new_quadratic`] or [`Mesh::to_quadratic`].
+/// [`Mesh::triangles`] always returns the corner nodes, so P1 code runs on
+/// the corners of any mesh; [`Mesh::triangles6`] gives the 6-node triangles.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
-    nodes: Vec<Point>,
-    triangles: Vec<[usize; 3]>,
-    element_region: Vec<usize>,
-    region_names: Vec<String>,
-    edge_sets: BTreeMap<String, Vec<[usize; 2]>>,
-    node_sets: BTreeMap<String, Vec<usize>>,
-    interfaces: BTreeMap<String, Interface>,
-    node_body: Vec<usize>,
-    bodies: Vec<Body>,
-    notices: Vec<MeshNotice>,
+    pub(crate) nodes: Vec<Point>,
+    pub(crate) triangles: Vec<[usize; 3]>,
+    /// P2 only: corners 0, 1, 2, then the mid nodes of (0,1), (1,2), (2,0).
+    pub(crate) triangles6: Option<Vec<[usize; 6]>>,
+    /// P2 only: mid node of each edge, keyed by its sorted corner pair.
+    pub(crate) edge_mid: HashMap<(usize, usize), usize>,
+    pub(crate) element_region: Vec<usize>,
+    pub(crate) region_names: Vec<String>,
+    pub(crate) edge_sets: BTreeMap<String, Vec<[usize; 2]>>,
+    pub(crate) node_sets: BTreeMap<String, Vec<usize>>,
+    pub(crate) interfaces: BTreeMap<String, Interface>,
+    pub(crate) node_body: Vec<usize>,
+    pub(crate) bodies: Vec<Body>,
+    pub(crate) notices: Vec<MeshNotice>,
 }
 
 /// Relative tolerance (to the mesh's bounding-box size) for coincident nodes.
@@ -174,6 +168,8 @@ impl Mesh {
         Ok(Mesh {
             nodes,
             triangles,
+            triangles6: None,
+            edge_mid: HashMap::new(),
             element_region,
             region_names,
             edge_sets: BTreeMap::new(),
@@ -190,9 +186,27 @@ impl Mesh {
         &self.nodes
     }
 
-    /// Triangles (counter-clockwise node ids).
+    /// Triangles by their corner nodes (counter-clockwise), for either order.
     pub fn triangles(&self) -> &[[usize; 3]] {
         &self.triangles
+    }
+
+    /// Element order: 1 (3-node triangles) or 2 (6-node triangles).
+    pub fn order(&self) -> usize {
+        if self.triangles6.is_some() { 2 } else { 1 }
+    }
+
+    /// The 6-node triangles of a P2 mesh (`None` for P1): corners 0, 1, 2
+    /// counter-clockwise, then the mid nodes of edges (0,1), (1,2), (2,0)
+    /// (the order of VTK_QUADRATIC_TRIANGLE and Gmsh type 9).
+    pub fn triangles6(&self) -> Option<&[[usize; 6]]> {
+        self.triangles6.as_deref()
+    }
+
+    /// The mid node of the edge a–b (either orientation) of a P2 mesh;
+    /// `None` for a P1 mesh or when a–b is not an edge.
+    pub fn edge_mid_node(&self, a: usize, b: usize) -> Option<usize> {
+        self.edge_mid.get(&(a.min(b), a.max(b))).copied()
     }
 
     /// Number of nodes.
@@ -346,89 +360,15 @@ impl Mesh {
         Ok(())
     }
 
-    /// The nodes of an edge set, ascending and unique.
+    /// The nodes of an edge set (with their mid nodes on a P2 mesh),
+    /// ascending and unique.
     pub fn edge_set_nodes(&self, name: &str) -> Result<Vec<usize>, MeshError> {
-        let mut v: Vec<usize> = self.edge_set(name)?.iter().flatten().copied().collect();
+        let edges = self.edge_set(name)?;
+        let mut v: Vec<usize> = edges.iter().flatten().copied().collect();
+        v.extend(edges.iter().filter_map(|&[a, b]| self.edge_mid_node(a, b)));
         v.sort_unstable();
         v.dedup();
         Ok(v)
-    }
-
-    /// Declares an interface between two edge sets and pairs their nodes by geometry.
-    ///
-    /// Each bottom edge becomes one 4-node element (see [`Interface`]); its
-    /// nodes must face nodes of the top set within `tolerance` (absolute
-    /// distance; `None` takes 1e-6 of the shortest bottom edge), and the facing
-    /// nodes must form an edge of the top set in another body.
-    pub fn add_interface(
-        &mut self,
-        name: &str,
-        bottom_set: &str,
-        top_set: &str,
-        tolerance: Option<f64>,
-    ) -> Result<(), MeshError> {
-        let bottom = self.edge_set(bottom_set)?.to_vec();
-        let top = self.edge_set(top_set)?.to_vec();
-        let min_len = bottom
-            .iter()
-            .map(|&[a, b]| dist(self.nodes[a], self.nodes[b]))
-            .fold(f64::INFINITY, f64::min);
-        let tol = tolerance.unwrap_or(1e-6 * if min_len.is_finite() { min_len } else { 1.0 });
-        let mut top_nodes: Vec<usize> = top.iter().flatten().copied().collect();
-        top_nodes.sort_unstable();
-        top_nodes.dedup();
-        let grid = PointGrid::new(&self.nodes, &top_nodes, tol);
-        let top_edges: HashMap<(usize, usize), ()> = top
-            .iter()
-            .flat_map(|&[a, b]| [((a, b), ()), ((b, a), ())])
-            .collect();
-        let mut elements = Vec::with_capacity(bottom.len());
-        for &[a, b] in &bottom {
-            // The bottom body is on the left of a→b (edge sets are stored
-            // counter-clockwise); the top body must be on the left of 1→2.
-            let (n1, n2) = (b, a);
-            let facing = |v: usize| {
-                grid.nearest(&self.nodes, self.nodes[v], tol)
-                    .ok_or_else(|| MeshError::InterfaceNotFacing {
-                        interface: name.into(),
-                        bottom_set: bottom_set.into(),
-                        top_set: top_set.into(),
-                        bottom: v,
-                        x: self.nodes[v][0],
-                        y: self.nodes[v][1],
-                        tolerance: tol,
-                    })
-            };
-            let n4 = facing(n1)?;
-            let n3 = facing(n2)?;
-            if !top_edges.contains_key(&(n3, n4)) {
-                return Err(MeshError::InterfaceEdgeMissing {
-                    interface: name.into(),
-                    top_set: top_set.into(),
-                    a,
-                    b,
-                    c: n3,
-                    d: n4,
-                });
-            }
-            if n1 == n4 && n2 == n3 {
-                return Err(MeshError::InterfaceSameEdge {
-                    interface: name.into(),
-                    a,
-                    b,
-                });
-            }
-            elements.push([n1, n2, n3, n4]);
-        }
-        self.interfaces.insert(
-            name.into(),
-            Interface {
-                bottom_set: bottom_set.into(),
-                top_set: top_set.into(),
-                elements,
-            },
-        );
-        Ok(())
     }
 
     /// Boundary edges (edges of exactly one triangle), counter-clockwise.
@@ -443,16 +383,24 @@ impl Mesh {
         out
     }
 
-    /// Area of each triangle.
+    /// Area of each triangle; on a P2 mesh the area of the curved
+    /// (isoparametric) triangle, integrated exactly.
     pub fn areas(&self) -> Vec<f64> {
-        self.triangles
-            .iter()
-            .map(|t| signed_area(self.nodes[t[0]], self.nodes[t[1]], self.nodes[t[2]]))
-            .collect()
+        match &self.triangles6 {
+            None => self
+                .triangles
+                .iter()
+                .map(|t| signed_area(self.nodes[t[0]], self.nodes[t[1]], self.nodes[t[2]]))
+                .collect(),
+            Some(t6) => t6
+                .iter()
+                .map(|t| crate::quadratic::p2_area(&t.map(|v| self.nodes[v])))
+                .collect(),
+        }
     }
 
     /// Node → triangles adjacency in CSR form.
-    fn node_triangles(&self) -> (Vec<usize>, Vec<usize>) {
+    pub(crate) fn node_triangles(&self) -> (Vec<usize>, Vec<usize>) {
         let mut start = vec![0usize; self.nodes.len() + 1];
         for t in &self.triangles {
             for &v in t {
@@ -474,14 +422,19 @@ impl Mesh {
     }
 
     /// Whether some triangle runs a→b in its counter-clockwise order.
-    fn has_directed_edge(&self, adj: &(Vec<usize>, Vec<usize>), a: usize, b: usize) -> bool {
+    pub(crate) fn has_directed_edge(
+        &self,
+        adj: &(Vec<usize>, Vec<usize>),
+        a: usize,
+        b: usize,
+    ) -> bool {
         adj.1[adj.0[a]..adj.0[a + 1]].iter().any(|&e| {
             let t = self.triangles[e];
             (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b)
         })
     }
 
-    fn directed_edges(&self) -> HashMap<(usize, usize), usize> {
+    pub(crate) fn directed_edges(&self) -> HashMap<(usize, usize), usize> {
         let mut map = HashMap::with_capacity(3 * self.triangles.len());
         for (e, t) in self.triangles.iter().enumerate() {
             for k in 0..3 {
@@ -489,197 +442,5 @@ impl Mesh {
             }
         }
         map
-    }
-}
-
-fn unknown<'a>(
-    kind: &'static str,
-    name: &str,
-    keys: impl Iterator<Item = &'a String>,
-) -> MeshError {
-    let available: Vec<&str> = keys.map(|s| s.as_str()).collect();
-    MeshError::UnknownName {
-        kind,
-        name: name.into(),
-        available: if available.is_empty() {
-            "none".into()
-        } else {
-            available.join(", ")
-        },
-    }
-}
-
-fn dist(a: Point, b: Point) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
-}
-
-fn longest_edge_sq(a: Point, b: Point, c: Point) -> f64 {
-    let d = |p: Point, q: Point| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
-    d(a, b).max(d(b, c)).max(d(c, a))
-}
-
-fn find_bodies(
-    n: usize,
-    triangles: &[[usize; 3]],
-    element_region: &[usize],
-    region_names: &[String],
-) -> (Vec<usize>, Vec<Body>) {
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
-        }
-        i
-    }
-    for t in triangles {
-        for &v in &t[1..] {
-            let (ra, rb) = (root(&mut parent, t[0]), root(&mut parent, v));
-            if ra != rb {
-                parent[ra.max(rb)] = ra.min(rb);
-            }
-        }
-    }
-    // Bodies numbered in order of their smallest node.
-    let mut body_of_root = HashMap::new();
-    let mut node_body = vec![0; n];
-    for (i, nb) in node_body.iter_mut().enumerate() {
-        let r = root(&mut parent, i);
-        let next = body_of_root.len();
-        *nb = *body_of_root.entry(r).or_insert(next);
-    }
-    let nb = body_of_root.len();
-    let mut elements = vec![Vec::new(); nb];
-    let mut nodes = vec![Vec::new(); nb];
-    let mut regions = vec![Vec::<usize>::new(); nb];
-    for (e, t) in triangles.iter().enumerate() {
-        let b = node_body[t[0]];
-        elements[b].push(e);
-        if !regions[b].contains(&element_region[e]) {
-            regions[b].push(element_region[e]);
-        }
-    }
-    for (i, &b) in node_body.iter().enumerate() {
-        nodes[b].push(i);
-    }
-    let bodies = (0..nb)
-        .map(|b| {
-            let mut r = regions[b].clone();
-            r.sort_unstable();
-            Body {
-                name: r
-                    .iter()
-                    .map(|&k| region_names[k].as_str())
-                    .collect::<Vec<_>>()
-                    .join("+"),
-                elements: std::mem::take(&mut elements[b]),
-                nodes: std::mem::take(&mut nodes[b]),
-            }
-        })
-        .collect();
-    (node_body, bodies)
-}
-
-/// Coincident nodes are an error when both are used by triangles of one
-/// region (an unmerged mesh); across regions they are allowed, as on an
-/// interface or at the tip of an interface crack.
-fn check_duplicates(
-    nodes: &[Point],
-    triangles: &[[usize; 3]],
-    element_region: &[usize],
-    region_names: &[String],
-) -> Result<(), MeshError> {
-    if nodes.is_empty() {
-        return Ok(());
-    }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in nodes {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
-    let tol = COINCIDENCE_TOLERANCE * size;
-    let all: Vec<usize> = (0..nodes.len()).collect();
-    let grid = PointGrid::new(nodes, &all, tol);
-    let mut pairs = Vec::new();
-    for (i, p) in nodes.iter().enumerate() {
-        for j in grid.within(nodes, *p, tol) {
-            if j > i {
-                pairs.push((i, j));
-            }
-        }
-    }
-    if pairs.is_empty() {
-        return Ok(());
-    }
-    let mut regions_of: HashMap<usize, Vec<usize>> = HashMap::new();
-    for &(i, j) in &pairs {
-        regions_of.entry(i).or_default();
-        regions_of.entry(j).or_default();
-    }
-    for (e, t) in triangles.iter().enumerate() {
-        for v in t {
-            if let Some(r) = regions_of.get_mut(v)
-                && !r.contains(&element_region[e])
-            {
-                r.push(element_region[e]);
-            }
-        }
-    }
-    for (i, j) in pairs {
-        if let Some(&r) = regions_of[&i].iter().find(|r| regions_of[&j].contains(r)) {
-            return Err(MeshError::DuplicateNodes {
-                a: i,
-                b: j,
-                x: nodes[i][0],
-                y: nodes[i][1],
-                region: region_names[r].clone(),
-            });
-        }
-    }
-    Ok(())
-}
-
-/// A uniform hash grid over a subset of nodes, for near-point queries.
-struct PointGrid {
-    cell: f64,
-    map: HashMap<(i64, i64), Vec<usize>>,
-}
-
-impl PointGrid {
-    fn new(nodes: &[Point], subset: &[usize], tol: f64) -> Self {
-        let cell = (4.0 * tol).max(f64::MIN_POSITIVE);
-        let mut map: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-        for &i in subset {
-            map.entry(Self::key(nodes[i], cell)).or_default().push(i);
-        }
-        PointGrid { cell, map }
-    }
-
-    fn key(p: Point, cell: f64) -> (i64, i64) {
-        ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64)
-    }
-
-    fn within(&self, nodes: &[Point], p: Point, tol: f64) -> Vec<usize> {
-        let (kx, ky) = Self::key(p, self.cell);
-        let mut out = Vec::new();
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                if let Some(v) = self.map.get(&(kx + dx, ky + dy)) {
-                    out.extend(v.iter().copied().filter(|&j| dist(nodes[j], p) <= tol));
-                }
-            }
-        }
-        out
-    }
-
-    fn nearest(&self, nodes: &[Point], p: Point, tol: f64) -> Option<usize> {
-        self.within(nodes, p, tol).into_iter().min_by(|&a, &b| {
-            dist(nodes[a], p)
-                .total_cmp(&dist(nodes[b], p))
-                .then(a.cmp(&b))
-        })
     }
 }

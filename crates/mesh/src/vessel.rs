@@ -74,6 +74,10 @@ pub struct VesselMeshSpec {
     pub first_ratio: f64,
     /// Fuse the weld to the core (no interface under the weld).
     pub fused_weld: bool,
+    /// Element order: 1 (3-node) or 2 (6-node triangles; mid nodes at the
+    /// polar midpoints of their edges, so node rows lie on their circles). Order 1 gives the same mesh, node for node, as before
+    /// the order existed.
+    pub order: usize,
 }
 
 impl VesselMeshSpec {
@@ -87,6 +91,7 @@ impl VesselMeshSpec {
             weld_divisions: 1,
             first_ratio: 1.5,
             fused_weld: false,
+            order: 1,
         }
     }
 
@@ -275,6 +280,10 @@ pub fn vessel_mesh(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<Mesh, 
     if first_free < ns - 1 {
         mesh.add_interface("core_layer", "core_outer", "layer_inner", None)?;
     }
+    if spec.order == 2 {
+        // Node rows lie on circles: polar mid nodes put their edges on them.
+        return mesh.to_quadratic_polar([0.0, 0.0]);
+    }
     Ok(mesh)
 }
 
@@ -303,6 +312,7 @@ fn check_spec(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<(), MeshErr
             "the weld must span less than a quarter of the circumference",
         );
     }
+    crate::generators::check_order(spec.order)?;
     if spec.core_rows == 0 {
         return bad("core_rows", "0".into(), "at least one element row");
     }

@@ -1,0 +1,205 @@
+//! Validation helpers shared by the P1 and P2 constructors: connected bodies,
+//! coincident nodes, and a hash grid for near-point queries.
+
+use std::collections::HashMap;
+
+use crate::error::MeshError;
+use crate::mesh::{Body, COINCIDENCE_TOLERANCE, Point};
+
+pub(crate) fn unknown<'a>(
+    kind: &'static str,
+    name: &str,
+    keys: impl Iterator<Item = &'a String>,
+) -> MeshError {
+    let available: Vec<&str> = keys.map(|s| s.as_str()).collect();
+    MeshError::UnknownName {
+        kind,
+        name: name.into(),
+        available: if available.is_empty() {
+            "none".into()
+        } else {
+            available.join(", ")
+        },
+    }
+}
+
+pub(crate) fn dist(a: Point, b: Point) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+pub(crate) fn longest_edge_sq(a: Point, b: Point, c: Point) -> f64 {
+    let d = |p: Point, q: Point| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    d(a, b).max(d(b, c)).max(d(c, a))
+}
+
+/// Connected bodies through shared nodes of the elements (all of their nodes,
+/// so the mid nodes of a P2 mesh belong to the body of their triangle).
+pub(crate) fn find_bodies<T: AsRef<[usize]>>(
+    n: usize,
+    elements: &[T],
+    element_region: &[usize],
+    region_names: &[String],
+) -> (Vec<usize>, Vec<Body>) {
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for t in elements {
+        let t = t.as_ref();
+        for &v in &t[1..] {
+            let (ra, rb) = (root(&mut parent, t[0]), root(&mut parent, v));
+            if ra != rb {
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    // Bodies numbered in order of their smallest node.
+    let mut body_of_root = HashMap::new();
+    let mut node_body = vec![0; n];
+    for (i, nb) in node_body.iter_mut().enumerate() {
+        let r = root(&mut parent, i);
+        let next = body_of_root.len();
+        *nb = *body_of_root.entry(r).or_insert(next);
+    }
+    let nb = body_of_root.len();
+    let mut body_elements = vec![Vec::new(); nb];
+    let mut nodes = vec![Vec::new(); nb];
+    let mut regions = vec![Vec::<usize>::new(); nb];
+    for (e, t) in elements.iter().enumerate() {
+        let b = node_body[t.as_ref()[0]];
+        body_elements[b].push(e);
+        if !regions[b].contains(&element_region[e]) {
+            regions[b].push(element_region[e]);
+        }
+    }
+    for (i, &b) in node_body.iter().enumerate() {
+        nodes[b].push(i);
+    }
+    let bodies = (0..nb)
+        .map(|b| {
+            let mut r = regions[b].clone();
+            r.sort_unstable();
+            Body {
+                name: r
+                    .iter()
+                    .map(|&k| region_names[k].as_str())
+                    .collect::<Vec<_>>()
+                    .join("+"),
+                elements: std::mem::take(&mut body_elements[b]),
+                nodes: std::mem::take(&mut nodes[b]),
+            }
+        })
+        .collect();
+    (node_body, bodies)
+}
+
+/// Coincident nodes are an error when both are used by elements of one
+/// region (an unmerged mesh); across regions they are allowed, as on an
+/// interface or at the tip of an interface crack.
+pub(crate) fn check_duplicates<T: AsRef<[usize]>>(
+    nodes: &[Point],
+    elements: &[T],
+    element_region: &[usize],
+    region_names: &[String],
+) -> Result<(), MeshError> {
+    if nodes.is_empty() {
+        return Ok(());
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in nodes {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
+    let tol = COINCIDENCE_TOLERANCE * size;
+    let all: Vec<usize> = (0..nodes.len()).collect();
+    let grid = PointGrid::new(nodes, &all, tol);
+    let mut pairs = Vec::new();
+    for (i, p) in nodes.iter().enumerate() {
+        for j in grid.within(nodes, *p, tol) {
+            if j > i {
+                pairs.push((i, j));
+            }
+        }
+    }
+    if pairs.is_empty() {
+        return Ok(());
+    }
+    let mut regions_of: HashMap<usize, Vec<usize>> = HashMap::new();
+    for &(i, j) in &pairs {
+        regions_of.entry(i).or_default();
+        regions_of.entry(j).or_default();
+    }
+    for (e, t) in elements.iter().enumerate() {
+        for v in t.as_ref() {
+            if let Some(r) = regions_of.get_mut(v)
+                && !r.contains(&element_region[e])
+            {
+                r.push(element_region[e]);
+            }
+        }
+    }
+    for (i, j) in pairs {
+        if let Some(&r) = regions_of[&i].iter().find(|r| regions_of[&j].contains(r)) {
+            return Err(MeshError::DuplicateNodes {
+                a: i,
+                b: j,
+                x: nodes[i][0],
+                y: nodes[i][1],
+                region: region_names[r].clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A uniform hash grid over a subset of nodes, for near-point queries.
+pub(crate) struct PointGrid {
+    cell: f64,
+    map: HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl PointGrid {
+    /// A grid whose queries find every point within `tol` (or less).
+    pub(crate) fn new(nodes: &[Point], subset: &[usize], tol: f64) -> Self {
+        let cell = (4.0 * tol).max(f64::MIN_POSITIVE);
+        let mut map: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        for &i in subset {
+            map.entry(Self::key(nodes[i], cell)).or_default().push(i);
+        }
+        PointGrid { cell, map }
+    }
+
+    fn key(p: Point, cell: f64) -> (i64, i64) {
+        ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64)
+    }
+
+    /// The points within `tol` of `p` (`tol` at most the grid's tolerance).
+    pub(crate) fn within(&self, nodes: &[Point], p: Point, tol: f64) -> Vec<usize> {
+        let (kx, ky) = Self::key(p, self.cell);
+        let mut out = Vec::new();
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(v) = self.map.get(&(kx + dx, ky + dy)) {
+                    out.extend(v.iter().copied().filter(|&j| dist(nodes[j], p) <= tol));
+                }
+            }
+        }
+        out
+    }
+
+    /// The nearest point within `tol` of `p` (ties: the smaller id).
+    pub(crate) fn nearest(&self, nodes: &[Point], p: Point, tol: f64) -> Option<usize> {
+        self.within(nodes, p, tol).into_iter().min_by(|&a, &b| {
+            dist(nodes[a], p)
+                .total_cmp(&dist(nodes[b], p))
+                .then(a.cmp(&b))
+        })
+    }
+}
