@@ -186,3 +186,166 @@ impl ShrinkFit {
         (-p * ci, p * co)
     }
 }
+
+/// Radial interference of a welded wrap: the weld of width `w` cooling by `delta_t` shrinks
+/// the layer's circumference by α ΔT w (plane stress) or (1 + ν) α ΔT w (plane strain, where
+/// ε_zz = 0 adds ν α ΔT to the free in-plane shrinkage); spread round the ring it is a radial
+/// interference of that length over 2π.
+pub fn weld_interference(alpha: f64, delta_t: f64, w: f64, nu: f64, state: Cylinders) -> f64 {
+    let free = match state {
+        Cylinders::PlaneStrain => (1.0 + nu) * alpha * delta_t * w,
+        Cylinders::PlaneStress => alpha * delta_t * w,
+    };
+    free / (2.0 * std::f64::consts::PI)
+}
+
+/// Why a [`SequentialShrinkFit`] cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SequentialFitError {
+    /// Fewer than three radii, or not one interference per layer.
+    #[error("{radii} radii need {} interferences (one per layer), got {deltas}", .radii.saturating_sub(2))]
+    Counts {
+        /// Number of radii given.
+        radii: usize,
+        /// Number of interferences given.
+        deltas: usize,
+    },
+    /// Radii not positive and strictly increasing (a zero-thickness or overlapping ring).
+    #[error("radius {index} ({value} m) must be positive and larger than the one before it")]
+    Radii {
+        /// Index of the offending radius.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// A negative or non-finite interference: the ring would not close (a gap), outside the model.
+    #[error("interference of layer {layer} is {value} m: the model needs δ ≥ 0 (a closed fit)")]
+    Interference {
+        /// Layer number (1-based).
+        layer: usize,
+        /// Its value.
+        value: f64,
+    },
+}
+
+/// Layers wrapped and welded one after another onto a core, all of one material: the
+/// sequential shrink fit of concentric rings.
+///
+/// Ring 0 is the core (r₀ ≤ r ≤ r₁), ring j the j-th layer (r_j ≤ r ≤ r_{j+1}). Stage k
+/// wraps layer k stress free and tight onto the *current* assembly (rings 0..k−1) and its weld
+/// shrinkage brings a radial interference δ_k. With the interfaces closed the assembly of one
+/// material acts as one Lamé cylinder r₀..r_k, so stage k is the two-cylinder fit
+/// [`ShrinkFit`] { a: r₀, c: r_k, b: r_{k+1}, δ_k }, and linear elasticity lets the stages
+/// superpose: the state after stage K is the sum of the stages 1..=K (a ring not yet wrapped
+/// carries nothing). Valid while every interface stays closed, i.e. every contact pressure
+/// stays positive (true for δ ≥ 0: each stage compresses the whole assembly radially).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SequentialShrinkFit {
+    radii: Vec<f64>,
+    deltas: Vec<f64>,
+    e: f64,
+    nu: f64,
+    state: Cylinders,
+}
+
+impl SequentialShrinkFit {
+    /// Radii r₀ < r₁ < … < r_{N+1} and the N interferences δ_1..δ_N.
+    pub fn new(
+        radii: Vec<f64>,
+        deltas: Vec<f64>,
+        e: f64,
+        nu: f64,
+        state: Cylinders,
+    ) -> Result<Self, SequentialFitError> {
+        if radii.len() < 3 || deltas.len() + 2 != radii.len() {
+            return Err(SequentialFitError::Counts {
+                radii: radii.len(),
+                deltas: deltas.len(),
+            });
+        }
+        for (i, &r) in radii.iter().enumerate() {
+            let prev = if i == 0 { 0.0 } else { radii[i - 1] };
+            if !(r.is_finite() && r > prev) {
+                return Err(SequentialFitError::Radii { index: i, value: r });
+            }
+        }
+        for (j, &d) in deltas.iter().enumerate() {
+            if !(d.is_finite() && d >= 0.0) {
+                return Err(SequentialFitError::Interference {
+                    layer: j + 1,
+                    value: d,
+                });
+            }
+        }
+        Ok(Self {
+            radii,
+            deltas,
+            e,
+            nu,
+            state,
+        })
+    }
+
+    /// Number of layers N.
+    pub fn n_layers(&self) -> usize {
+        self.deltas.len()
+    }
+
+    /// Radii r₀..r_{N+1}.
+    pub fn radii(&self) -> &[f64] {
+        &self.radii
+    }
+
+    /// The two-cylinder fit of stage `k` (1..=N) alone.
+    pub fn stage(&self, k: usize) -> ShrinkFit {
+        ShrinkFit {
+            a: self.radii[0],
+            c: self.radii[k],
+            b: self.radii[k + 1],
+            delta: self.deltas[k - 1],
+            e: self.e,
+            nu: self.nu,
+            state: self.state,
+        }
+    }
+
+    /// Sum over the stages 1..=`after` that load `ring`: `f(stage fit, ring is in its inner cylinder)`.
+    fn sum(&self, after: usize, ring: usize, f: impl Fn(&ShrinkFit, bool) -> f64) -> f64 {
+        (1..=after.min(self.n_layers()))
+            .filter(|&k| ring <= k)
+            .map(|k| f(&self.stage(k), ring < k))
+            .sum()
+    }
+
+    /// Hoop stress σ_θθ at radius `r` of `ring` (0 = core, j = layer j) after stage `after`.
+    pub fn sigma_tt(&self, after: usize, ring: usize, r: f64) -> f64 {
+        self.sum(after, ring, |s, inner| s.sigma_tt(r, inner))
+    }
+
+    /// Radial stress σ_rr at radius `r` of `ring` after stage `after`.
+    pub fn sigma_rr(&self, after: usize, ring: usize, r: f64) -> f64 {
+        self.sum(after, ring, |s, inner| s.sigma_rr(r, inner))
+    }
+
+    /// Contact pressure (positive in compression) at interface `j` (1..=N, between ring j−1
+    /// and layer j) after stage `after`; zero before layer j is wrapped.
+    pub fn contact_pressure(&self, after: usize, j: usize) -> f64 {
+        if j == 0 || j > after.min(self.n_layers()) {
+            return 0.0;
+        }
+        -self.sigma_rr(after, j, self.radii[j])
+    }
+
+    /// Mean hoop stress through the thickness of `ring` after stage `after`:
+    /// (1/(r₂ − r₁)) ∫ σ_θθ dr, exact for the Lamé field A + B/r².
+    pub fn mean_hoop(&self, after: usize, ring: usize) -> f64 {
+        let (r1, r2) = (self.radii[ring], self.radii[ring + 1]);
+        self.sum(after, ring, |s, inner| {
+            // σ_θθ = A + B/r² with A, B read off at two radii.
+            let (f1, f2) = (s.sigma_tt(r1, inner), s.sigma_tt(r2, inner));
+            let b = (f1 - f2) / (1.0 / (r1 * r1) - 1.0 / (r2 * r2));
+            let a = f1 - b / (r1 * r1);
+            a + b / (r1 * r2)
+        })
+    }
+}
