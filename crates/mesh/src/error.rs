@@ -210,7 +210,7 @@ pub enum MeshError {
     },
     /// A Gmsh element type Tecon does not take.
     #[error(
-        "{path}: element type {type_name} (Gmsh type {type_id}) on entity {entity} is not supported; Tecon takes 3-node triangles and 2-node lines (and ignores points)"
+        "{path}: element type {type_name} (Gmsh type {type_id}) on entity {entity} is not supported; Tecon takes 3- or 6-node triangles and 2- or 3-node lines (and ignores points)"
     )]
     UnsupportedElement {
         /// File.

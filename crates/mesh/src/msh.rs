@@ -1,10 +1,14 @@
 //! Gmsh MSH 4.1 import (ASCII and binary) through the `mshio` crate.
 //!
-//! * 3-node triangles (type 2) become mesh triangles; their physical surface
-//!   group names their region (an entity without a physical group gets the
-//!   region `surface_<tag>`).
-//! * 2-node lines (type 1) of physical curve groups become edge sets named
-//!   after the group.
+//! * 3-node triangles (type 2) make a P1 mesh, 6-node triangles (type 9, as
+//!   Gmsh writes second-order meshes: corners, then the mid nodes of edges
+//!   (0,1), (1,2), (2,0)) a P2 mesh; their physical surface group names
+//!   their region (an entity without a physical group gets the region
+//!   `surface_<tag>`). Both orders in one file are an error naming the
+//!   first element of the other order.
+//! * 2-node lines (type 1; type 8, 3-node lines, in a P2 file) of physical
+//!   curve groups become edge sets named after the group (corner pairs; the
+//!   mid node of a 3-node line must be its edge's mid node).
 //! * Points (type 15) are ignored; every other element type is an error.
 //! * Nodes that no triangle uses are dropped and the rest renumbered in file
 //!   order (Gmsh also writes the nodes of geometric points and curves).
@@ -141,12 +145,27 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
             ))
         })
     };
-    let mut tris_file: Vec<[usize; 3]> = Vec::new();
+    // (element tag, Gmsh type) of the first triangle and first line: the
+    // file's element order.
+    let mut first_tri: Option<(u64, u32)> = None;
+    let mut first_line: Option<(u64, u32)> = None;
+    let mixed = |first: (u64, u32), tag: u64, ty: u32, entity: i32| {
+        content(format!(
+            "element {tag} (Gmsh type {ty}, {}, entity {entity}) has a different order than element {} (Gmsh type {}, {}); Tecon takes meshes of one order (save all elements as first or all as second order)",
+            type_words(ty),
+            first.0,
+            first.1,
+            type_words(first.1)
+        ))
+    };
+    let mut tris_file: Vec<[usize; 6]> = Vec::new();
     let mut tri_region_name: Vec<String> = Vec::new();
-    let mut edge_sets_file: BTreeMap<String, Vec<[usize; 2]>> = BTreeMap::new();
+    let mut edge_sets_file: BTreeMap<String, Vec<[usize; 3]>> = BTreeMap::new();
     for block in &elements.element_blocks {
+        let ty = block.element_type as u32;
         match block.element_type {
-            ElementType::Tri3 => {
+            ElementType::Tri3 | ElementType::Tri6 => {
+                let n = if ty == 2 { 3 } else { 6 };
                 let groups = surface_groups
                     .get(&block.entity_tag)
                     .cloned()
@@ -156,39 +175,53 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
                     None => format!("surface_{}", block.entity_tag),
                 };
                 for el in &block.elements {
-                    if el.nodes.len() != 3 {
+                    match first_tri {
+                        None => first_tri = Some((el.element_tag, ty)),
+                        Some(f) if f.1 != ty => {
+                            return Err(mixed(f, el.element_tag, ty, block.entity_tag));
+                        }
+                        _ => {}
+                    }
+                    if el.nodes.len() != n {
                         return Err(content(format!(
-                            "triangle {} has {} nodes",
+                            "triangle {} has {} nodes (Gmsh type {ty} has {n})",
                             el.element_tag,
                             el.nodes.len()
                         )));
                     }
-                    let t = [
-                        lookup(el.nodes[0], el.element_tag)?,
-                        lookup(el.nodes[1], el.element_tag)?,
-                        lookup(el.nodes[2], el.element_tag)?,
-                    ];
+                    let mut t = [usize::MAX; 6];
+                    for (slot, &tag) in t.iter_mut().zip(&el.nodes) {
+                        *slot = lookup(tag, el.element_tag)?;
+                    }
                     tris_file.push(t);
                     tri_region_name.push(region.clone());
                 }
             }
-            ElementType::Lin2 => {
+            ElementType::Lin2 | ElementType::Lin3 => {
+                let n = if ty == 1 { 2 } else { 3 };
                 let groups = curve_groups
                     .get(&block.entity_tag)
                     .cloned()
                     .unwrap_or_default();
                 for el in &block.elements {
-                    if el.nodes.len() != 2 {
+                    match first_line {
+                        None => first_line = Some((el.element_tag, ty)),
+                        Some(f) if f.1 != ty => {
+                            return Err(mixed(f, el.element_tag, ty, block.entity_tag));
+                        }
+                        _ => {}
+                    }
+                    if el.nodes.len() != n {
                         return Err(content(format!(
-                            "line {} has {} nodes",
+                            "line {} has {} nodes (Gmsh type {ty} has {n})",
                             el.element_tag,
                             el.nodes.len()
                         )));
                     }
-                    let e = [
-                        lookup(el.nodes[0], el.element_tag)?,
-                        lookup(el.nodes[1], el.element_tag)?,
-                    ];
+                    let mut e = [usize::MAX; 3];
+                    for (slot, &tag) in e.iter_mut().zip(&el.nodes) {
+                        *slot = lookup(tag, el.element_tag)?;
+                    }
                     for &g in &groups {
                         edge_sets_file
                             .entry(group_name(1, g.abs()))
@@ -208,13 +241,30 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
             }
         }
     }
+    if let (Some(t), Some(l)) = (first_tri, first_line)
+        && (t.1 == 9) != (l.1 == 8)
+    {
+        return Err(content(format!(
+            "line element {} (Gmsh type {}, {}) has a different order than triangle element {} (Gmsh type {}, {}); Tecon takes meshes of one order",
+            l.0,
+            l.1,
+            type_words(l.1),
+            t.0,
+            t.1,
+            type_words(t.1)
+        )));
+    }
+    let quadratic = first_tri.is_some_and(|t| t.1 == 9);
+    let width = if quadratic { 6 } else { 3 };
     if tris_file.is_empty() {
-        return Err(content("the file has no 3-node triangles".into()));
+        return Err(content(
+            "the file has no triangles (3-node or 6-node)".into(),
+        ));
     }
     // Compact: keep nodes used by triangles, in file order.
     let mut new_id = vec![usize::MAX; coords.len()];
     for t in &tris_file {
-        for &v in t {
+        for &v in &t[..width] {
             new_id[v] = 0;
         }
     }
@@ -225,7 +275,6 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
             nodes.push(coords[i]);
         }
     }
-    let triangles: Vec<[usize; 3]> = tris_file.iter().map(|t| t.map(|v| new_id[v])).collect();
     let mut region_names: Vec<String> = Vec::new();
     let regions: Vec<usize> = tri_region_name
         .iter()
@@ -237,22 +286,53 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
             }
         })
         .collect();
-    let mut mesh =
-        Mesh::new(nodes, triangles, regions, region_names).map_err(|e| content(e.to_string()))?;
+    let mut mesh = if quadratic {
+        let triangles: Vec<[usize; 6]> = tris_file.iter().map(|t| t.map(|v| new_id[v])).collect();
+        Mesh::new_quadratic(nodes, triangles, regions, region_names)
+    } else {
+        let triangles: Vec<[usize; 3]> = tris_file
+            .iter()
+            .map(|t| [new_id[t[0]], new_id[t[1]], new_id[t[2]]])
+            .collect();
+        Mesh::new(nodes, triangles, regions, region_names)
+    }
+    .map_err(|e| content(e.to_string()))?;
     for (name, edges) in edge_sets_file {
         let mut mapped = Vec::with_capacity(edges.len());
-        for [a, b] in edges {
-            if new_id[a] == usize::MAX || new_id[b] == usize::MAX {
+        for e in edges {
+            let ids: Vec<usize> = e
+                .iter()
+                .take(if quadratic { 3 } else { 2 })
+                .map(|&v| new_id[v])
+                .collect();
+            if ids.contains(&usize::MAX) {
                 return Err(content(format!(
                     "physical curve '{name}' has a line whose nodes belong to no triangle"
                 )));
             }
-            mapped.push([new_id[a], new_id[b]]);
+            if quadratic && mesh.edge_mid_node(ids[0], ids[1]) != Some(ids[2]) {
+                return Err(content(format!(
+                    "physical curve '{name}': the 3-node line ({}, {}, {}) does not match a triangle edge and its mid node",
+                    ids[0], ids[1], ids[2]
+                )));
+            }
+            mapped.push([ids[0], ids[1]]);
         }
         mesh.add_edge_set(&name, mapped)
             .map_err(|e| content(e.to_string()))?;
     }
     Ok(mesh)
+}
+
+/// Words for the Gmsh element types Tecon reads.
+fn type_words(ty: u32) -> &'static str {
+    match ty {
+        1 => "2-node line, first order",
+        2 => "3-node triangle, first order",
+        8 => "3-node line, second order",
+        9 => "6-node triangle, second order",
+        _ => "other",
+    }
 }
 
 fn check_version(bytes: &[u8], path: &Path) -> Result<(), MeshError> {
