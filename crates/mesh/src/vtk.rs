@@ -1,9 +1,106 @@
 //! VTK output: `.vtu` unstructured grids (XML, ASCII) and `.pvd` time collections.
+//!
+//! [`write_mesh_vtu`] writes a [`Mesh`] of either order with named point and
+//! cell data: P1 triangles as VTK_TRIANGLE (5), P2 triangles as
+//! VTK_QUADRATIC_TRIANGLE (22, node order as [`Mesh::triangles6`]); interface
+//! elements after the triangles, P1 as VTK_QUAD (9, nodes 1, 2, 3, 4) and P2
+//! as VTK_QUADRATIC_LINEAR_QUAD (30: nodes 1, 2, 3, 4, then the mid nodes of
+//! 1–2 and 3–4), quadratic along the joint and linear across it, so the
+//! zero-thickness cell has no mid nodes on its two zero-length sides and
+//! opens into a curved strip when ParaView warps it by the displacement.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::MeshError;
+use crate::mesh::Mesh;
+
+/// VTK cell type numbers.
+pub mod cell_type {
+    /// 3-node triangle.
+    pub const TRIANGLE: u8 = 5;
+    /// 4-node quadrilateral.
+    pub const QUAD: u8 = 9;
+    /// 6-node triangle.
+    pub const QUADRATIC_TRIANGLE: u8 = 22;
+    /// 6-node quadrilateral, quadratic along edges 0–1 and 2–3.
+    pub const QUADRATIC_LINEAR_QUAD: u8 = 30;
+}
+
+/// A mesh with named data, for [`write_mesh_vtu`].
+#[derive(Debug, Clone, Copy)]
+pub struct MeshVtu<'a> {
+    /// The mesh (P1 or P2); every node is written, mid nodes included.
+    pub mesh: &'a Mesh,
+    /// Write the interface elements as cells after the triangles (all
+    /// interfaces, in name order, each in its element order).
+    pub interfaces: bool,
+    /// Named point fields, one entry per node.
+    pub point_data: &'a [(&'a str, Field<'a>)],
+    /// Named cell fields, one entry per triangle, then (with `interfaces`)
+    /// one per interface element.
+    pub cell_data: &'a [(&'a str, Field<'a>)],
+}
+
+impl MeshVtu<'_> {
+    /// Number of cells written: triangles, then interface elements.
+    pub fn n_cells(&self) -> usize {
+        self.mesh.n_triangles()
+            + if self.interfaces {
+                self.mesh
+                    .interfaces()
+                    .values()
+                    .map(|i| i.elements.len())
+                    .sum()
+            } else {
+                0
+            }
+    }
+}
+
+/// Writes a mesh of either order with its data as a `.vtu` file.
+pub fn write_mesh_vtu(path: impl AsRef<Path>, vtu: &MeshVtu<'_>) -> Result<(), MeshError> {
+    let path = path.as_ref();
+    let text = mesh_vtu_string(vtu).map_err(|message| MeshError::Io {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    std::fs::write(path, text).map_err(|e| MeshError::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+/// The XML text of [`write_mesh_vtu`]; errors name a field whose length is wrong.
+pub fn mesh_vtu_string(vtu: &MeshVtu<'_>) -> Result<String, String> {
+    let m = vtu.mesh;
+    let mut cells: Vec<(u8, Vec<usize>)> = Vec::with_capacity(vtu.n_cells());
+    match m.triangles6() {
+        Some(t6) => cells.extend(
+            t6.iter()
+                .map(|t| (cell_type::QUADRATIC_TRIANGLE, t.to_vec())),
+        ),
+        None => cells.extend(
+            m.triangles()
+                .iter()
+                .map(|t| (cell_type::TRIANGLE, t.to_vec())),
+        ),
+    }
+    if vtu.interfaces {
+        for itf in m.interfaces().values() {
+            for (k, e) in itf.elements.iter().enumerate() {
+                cells.push(match itf.mid_nodes.get(k) {
+                    Some(&[mb, mt]) => (
+                        cell_type::QUADRATIC_LINEAR_QUAD,
+                        vec![e[0], e[1], e[2], e[3], mb, mt],
+                    ),
+                    None => (cell_type::QUAD, e.to_vec()),
+                });
+            }
+        }
+    }
+    grid_string(m.nodes(), &cells, vtu.point_data, vtu.cell_data)
+}
 
 /// Data attached to points or cells.
 #[derive(Debug, Clone, Copy)]
@@ -62,9 +159,24 @@ pub fn write_vtu(path: impl AsRef<Path>, piece: &VtuPiece<'_>) -> Result<(), Mes
 
 /// The XML text of a `.vtu` file; errors name a field whose length is wrong.
 pub fn vtu_string(piece: &VtuPiece<'_>) -> Result<String, String> {
-    let np = piece.points.len();
-    let nc = piece.triangles.len() + piece.quads.len();
-    for (name, f) in piece.point_data {
+    let cells: Vec<(u8, Vec<usize>)> = piece
+        .triangles
+        .iter()
+        .map(|t| (cell_type::TRIANGLE, t.to_vec()))
+        .chain(piece.quads.iter().map(|q| (cell_type::QUAD, q.to_vec())))
+        .collect();
+    grid_string(piece.points, &cells, piece.point_data, piece.cell_data)
+}
+
+fn grid_string(
+    points: &[[f64; 2]],
+    cells: &[(u8, Vec<usize>)],
+    point_data: &[(&str, Field<'_>)],
+    cell_data: &[(&str, Field<'_>)],
+) -> Result<String, String> {
+    let np = points.len();
+    let nc = cells.len();
+    for (name, f) in point_data {
         if f.len() != np {
             return Err(format!(
                 "point field '{name}' has {} entries for {np} points",
@@ -72,7 +184,7 @@ pub fn vtu_string(piece: &VtuPiece<'_>) -> Result<String, String> {
             ));
         }
     }
-    for (name, f) in piece.cell_data {
+    for (name, f) in cell_data {
         if f.len() != nc {
             return Err(format!(
                 "cell field '{name}' has {} entries for {nc} cells",
@@ -86,38 +198,26 @@ pub fn vtu_string(piece: &VtuPiece<'_>) -> Result<String, String> {
     s.push_str(
         "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
     );
-    for p in piece.points {
+    for p in points {
         let _ = writeln!(s, "{:e} {:e} 0", p[0], p[1]);
     }
     s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for t in piece.triangles {
-        let _ = writeln!(s, "{} {} {}", t[0], t[1], t[2]);
-    }
-    for q in piece.quads {
-        let _ = writeln!(s, "{} {} {} {}", q[0], q[1], q[2], q[3]);
+    for (_, c) in cells {
+        let line: Vec<String> = c.iter().map(|v| v.to_string()).collect();
+        let _ = writeln!(s, "{}", line.join(" "));
     }
     s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
     let mut off = 0;
-    for _ in piece.triangles {
-        off += 3;
-        let _ = writeln!(s, "{off}");
-    }
-    for _ in piece.quads {
-        off += 4;
+    for (_, c) in cells {
+        off += c.len();
         let _ = writeln!(s, "{off}");
     }
     s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for _ in piece.triangles {
-        s.push_str("5\n");
-    }
-    for _ in piece.quads {
-        s.push_str("9\n");
+    for (t, _) in cells {
+        let _ = writeln!(s, "{t}");
     }
     s.push_str("</DataArray>\n</Cells>\n");
-    for (tag, data) in [
-        ("PointData", piece.point_data),
-        ("CellData", piece.cell_data),
-    ] {
+    for (tag, data) in [("PointData", point_data), ("CellData", cell_data)] {
         let _ = writeln!(s, "<{tag}>");
         for (name, f) in data {
             write_field(&mut s, name, f);
