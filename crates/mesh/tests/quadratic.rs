@@ -513,3 +513,55 @@ fn order_one_vessel_presets_are_unchanged_node_for_node() {
     }
     eprintln!("{}", got.join("\n"));
 }
+
+#[test]
+fn graded_mesh_shrinks_toward_the_weld_edge() {
+    let g = VesselGeometry::default();
+    let tw = g.weld_half_angle();
+    for level in 0..3 {
+        let spec = VesselMeshSpec::graded(level).unwrap();
+        let t = tecon_mesh::vessel::station_angles(&g, &spec);
+        let nw = spec.weld_divisions;
+        assert_eq!(t.len(), spec.stations);
+        assert_eq!(t[0], 0.0);
+        assert_eq!(t[nw], tw);
+        assert_eq!(*t.last().unwrap(), PI);
+        let h: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+        let r = spec.weld_grading;
+        for k in 0..nw - 1 {
+            assert!((h[k] / h[k + 1] - r).abs() < 1e-9, "weld interval {k}");
+        }
+        assert!((h[nw] / h[nw - 1] - spec.first_ratio).abs() < 1e-9);
+        for k in nw..h.len() - 1 {
+            assert!(h[k + 1] > h[k], "outside the weld intervals grow");
+            assert!(h[k + 1] / h[k] < 1.5, "gentle growth {}", h[k + 1] / h[k]);
+        }
+        let m = vessel_mesh(&g, &spec).unwrap();
+        assert_eq!(m.order(), 2);
+        assert_eq!(m.n_triangles(), 352 * 4usize.pow(level));
+        assert_eq!(m.n_triangles(), spec.n_triangles());
+        let rc = g.interface_radius();
+        eprintln!(
+            "graded({level}): {} triangles, {} nodes; intervals at r_c: {:.2e} m at the weld edge, {:.2e} m at θ = π",
+            m.n_triangles(),
+            m.n_nodes(),
+            rc * h[nw - 1],
+            rc * h.last().unwrap()
+        );
+        // level L + 1 has the stations of level L inside the weld
+        if level < 2 {
+            let finer =
+                tecon_mesh::vessel::station_angles(&g, &VesselMeshSpec::graded(level + 1).unwrap());
+            for k in 0..=nw {
+                assert!((finer[2 * k] - t[k]).abs() < 1e-15, "station {k}");
+            }
+        }
+    }
+    assert!(VesselMeshSpec::graded(7).is_err());
+    let bad = VesselMeshSpec {
+        weld_grading: 0.5,
+        ..VesselMeshSpec::paper()
+    };
+    let e = vessel_mesh(&g, &bad).unwrap_err();
+    assert!(e.to_string().contains("weld_grading"), "{e}");
+}
