@@ -159,21 +159,24 @@ pub(crate) fn check_duplicates<T: AsRef<[usize]>>(
     Ok(())
 }
 
-/// A uniform hash grid over a subset of nodes, for near-point queries.
+/// A uniform grid over a subset of nodes, for near-point queries: the nodes
+/// sorted by cell, found by binary search (no allocation per cell).
 pub(crate) struct PointGrid {
     cell: f64,
-    map: HashMap<(i64, i64), Vec<usize>>,
+    /// (cell key, node), sorted.
+    sorted: Vec<((i64, i64), usize)>,
 }
 
 impl PointGrid {
     /// A grid whose queries find every point within `tol` (or less).
     pub(crate) fn new(nodes: &[Point], subset: &[usize], tol: f64) -> Self {
         let cell = (4.0 * tol).max(f64::MIN_POSITIVE);
-        let mut map: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-        for &i in subset {
-            map.entry(Self::key(nodes[i], cell)).or_default().push(i);
-        }
-        PointGrid { cell, map }
+        let mut sorted: Vec<((i64, i64), usize)> = subset
+            .iter()
+            .map(|&i| (Self::key(nodes[i], cell), i))
+            .collect();
+        sorted.sort_unstable();
+        PointGrid { cell, sorted }
     }
 
     fn key(p: Point, cell: f64) -> (i64, i64) {
@@ -185,9 +188,14 @@ impl PointGrid {
         let (kx, ky) = Self::key(p, self.cell);
         let mut out = Vec::new();
         for dx in -1..=1 {
-            for dy in -1..=1 {
-                if let Some(v) = self.map.get(&(kx + dx, ky + dy)) {
-                    out.extend(v.iter().copied().filter(|&j| dist(nodes[j], p) <= tol));
+            // cells (kx+dx, ky-1 ..= ky+1) are contiguous in the sorted order
+            let lo = self.sorted.partition_point(|&(k, _)| k < (kx + dx, ky - 1));
+            for &(k, j) in &self.sorted[lo..] {
+                if k > (kx + dx, ky + 1) {
+                    break;
+                }
+                if dist(nodes[j], p) <= tol {
+                    out.push(j);
                 }
             }
         }
