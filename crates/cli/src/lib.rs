@@ -6,8 +6,12 @@
 //! * [`torsion`]: wavelet-BEM torsion of a section.
 //! * [`plot`]: SVG/PNG line plots shared by the commands.
 
+pub mod builtin;
 pub mod case;
+pub mod driver;
 pub mod mesh_cmd;
 pub mod plot;
+pub mod setup;
 pub mod torsion;
 pub mod vessel;
+pub mod writers;

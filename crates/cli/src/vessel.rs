@@ -13,142 +13,25 @@
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{Value, json};
-use tecon_contact::{GhaboussiNormal, PaperJoint};
 use tecon_elastic::analytical::{Cylinders, ShrinkFit};
 use tecon_elastic::{
-    Analysis, ElasticModel, InterfaceNormals, InterfacePointResult, Joint, Loads, Material,
-    SolverOptions, StaticSolver, StressField, polar, von_mises,
+    Analysis, InterfaceNormals, InterfacePointResult, Material, StressField, polar,
 };
-use tecon_mesh::vtk::{Field, VtuPiece, write_pvd, write_vtu};
-use tecon_mesh::{Mesh, VesselGeometry, VesselMeshSpec, vessel_mesh};
-use tecon_thermal::{EdgeBc, Snapshot, ThermalModel, ThetaScheme, TimeSchedule};
+use tecon_mesh::{Mesh, VesselMeshSpec, vessel_mesh};
 
-use crate::plot::{LinePlot, Series};
+use crate::driver::{self, LoadFactors};
+use crate::plot::Series;
+use crate::setup;
+use crate::writers::{self, StateFiles, csv, plot};
 
-/// Boxed error of the command layer.
-pub type CliResult<T> = Result<T, Box<dyn std::error::Error + Send + Sync>>;
+pub use crate::builtin::{VesselData, VesselOptions, default_mesh, schedule};
+pub use crate::driver::NewtonStats;
+pub use crate::writers::CliResult;
 
-/// Material and process data of the published case (SI units).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct VesselData {
-    /// Density ρ, kg/m³.
-    pub density: f64,
-    /// Specific heat c, J/(kg K).
-    pub specific_heat: f64,
-    /// Conductivity k, W/(m K).
-    pub conductivity: f64,
-    /// Thermal expansion α, 1/K.
-    pub expansion: f64,
-    /// Young's modulus E, Pa.
-    pub youngs_modulus: f64,
-    /// Poisson's ratio ν.
-    pub poisson_ratio: f64,
-    /// Initial weld temperature, °C.
-    pub weld_temperature: f64,
-    /// Ambient and initial temperature of the rest, °C.
-    pub ambient: f64,
-    /// Film coefficient on the inner and outer surfaces, W/(m² K).
-    pub film: f64,
-    /// Interface conductance core/layer, W/(m² K).
-    pub interface_conductance: f64,
-}
-
-impl Default for VesselData {
-    fn default() -> Self {
-        VesselData {
-            density: 7832.0,
-            specific_heat: 434.0,
-            conductivity: 63.9,
-            expansion: 12.51e-6,
-            youngs_modulus: 207e9,
-            poisson_ratio: 0.3,
-            weld_temperature: 1132.0,
-            ambient: 21.0,
-            film: 10.25,
-            interface_conductance: 850.0,
-        }
-    }
-}
-
-/// Everything a vessel run needs.
-#[derive(Debug, Clone, PartialEq)]
-pub struct VesselOptions {
-    /// Geometry.
-    pub geometry: VesselGeometry,
-    /// Mesh density.
-    pub mesh: VesselMeshSpec,
-    /// Material and process data.
-    pub data: VesselData,
-    /// Friction coefficient μ = tan φ of the core/layer joint.
-    pub friction: f64,
-    /// Cohesion c of the joint, Pa.
-    pub cohesion: f64,
-    /// Joint penalty factor β (k_n = β E / h, h the radial element size at the interface).
-    pub penalty_factor: f64,
-    /// Augmented-Lagrangian tolerance (None: pure penalty).
-    pub augmented_lagrangian: Option<f64>,
-    /// Internal (operating) pressure applied after cooling, Pa.
-    pub pressure: Option<f64>,
-    /// Output times of the transient, s (the last is the end of cooling).
-    pub times: Vec<f64>,
-    /// Plane strain (default) or generalised plane strain.
-    pub analysis: Analysis,
-    /// Interface point normals: smoothed per node (default) or each
-    /// element's chord (the classical element).
-    pub normals: InterfaceNormals,
-    /// Quiet: no progress bar.
-    pub quiet: bool,
-    /// Print the Newton iteration history of every increment to stderr.
-    pub verbose: bool,
-}
-
-impl Default for VesselOptions {
-    fn default() -> Self {
-        VesselOptions {
-            geometry: VesselGeometry::default(),
-            mesh: default_mesh(),
-            data: VesselData::default(),
-            friction: 0.3,
-            cohesion: 0.0,
-            penalty_factor: tecon_contact::DEFAULT_PENALTY_FACTOR,
-            augmented_lagrangian: Some(1e-4),
-            pressure: None,
-            times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
-            analysis: Analysis::PlaneStrain,
-            normals: InterfaceNormals::Smoothed,
-            quiet: false,
-            verbose: false,
-        }
-    }
-}
-
-/// The default mesh: refinement level 2 (2176 triangles; the mean hoop
-/// prestress is within about 3 % of level 3).
-pub fn default_mesh() -> VesselMeshSpec {
-    // level 2 is a valid level
-    VesselMeshSpec::refined(2).unwrap_or_else(|_| VesselMeshSpec::paper())
-}
-
-/// Results at one time.
-#[derive(Debug, Clone)]
-pub struct TimeResult {
-    /// Time, s.
-    pub time: f64,
-    /// Thermal snapshot.
-    pub thermal: Snapshot,
-    /// Displacements (2 per node).
-    pub displacement: Vec<f64>,
-    /// Stresses.
-    pub stress: StressField,
-    /// Interface points.
-    pub interface: Vec<InterfacePointResult>,
-    /// Most Newton iterations of one pass in any increment.
-    pub max_iterations: usize,
-    /// Most augmented-Lagrangian updates in any increment.
-    pub max_augmentations: usize,
-}
+/// Results at one output time of the cooling (the driver's state; the
+/// temperatures are always present).
+pub type TimeResult = crate::driver::State;
 
 /// A finished vessel run.
 #[derive(Debug)]
@@ -177,39 +60,8 @@ pub struct VesselRun {
     pub contact_seconds: f64,
     /// Newton iterations and solves of the contact analysis.
     pub newton: NewtonStats,
-}
-
-/// Work done by the contact analysis.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct NewtonStats {
-    /// Newton iterations in all (every pass of every increment).
-    pub iterations: usize,
-    /// Converged increments (with cut-backs, more than the output times).
-    pub increments: usize,
-    /// Tangent factorisations / reused factors / low-rank corrected solves.
-    pub solves: tecon_fem::UpdateStats,
-}
-
-/// Cooling schedule: steps growing from 0.02 s near the start to 1000 s.
-pub fn schedule(end: f64) -> CliResult<TimeSchedule> {
-    let mut seg: Vec<(f64, f64)> = Vec::new();
-    for (t, dt) in [
-        (1.0, 0.02),
-        (10.0, 0.2),
-        (100.0, 2.0),
-        (1000.0, 20.0),
-        (10000.0, 200.0),
-        (f64::INFINITY, 1000.0),
-    ] {
-        let t_end = t.min(end);
-        if seg.last().is_none_or(|s| s.0 < t_end) {
-            seg.push((t_end, dt));
-        }
-        if t >= end {
-            break;
-        }
-    }
-    Ok(TimeSchedule::segments(&seg)?)
+    /// Names of the model interfaces.
+    pub interfaces: Vec<String>,
 }
 
 /// The coupling parameter δ = (3λ + 2μ)² α² T₀ / ((λ + 2μ) ρ c) at absolute temperature T₀ (K).
@@ -224,26 +76,12 @@ pub fn coupling_delta(d: &VesselData, t0_kelvin: f64) -> f64 {
         / ((l + 2.0 * mu) * d.density * d.specific_heat)
 }
 
-fn progress(len: u64, quiet: bool) -> ProgressBar {
-    let target = if quiet {
-        ProgressDrawTarget::hidden()
-    } else {
-        ProgressDrawTarget::stderr()
-    };
-    let pb = ProgressBar::with_draw_target(Some(len), target);
-    if let Ok(style) =
-        ProgressStyle::with_template("{spinner} {msg:40} [{bar:30}] {pos}/{len} {elapsed}")
-    {
-        pb.set_style(style.progress_chars("=> "));
-    }
-    pb
-}
-
-/// Runs the whole analysis (no files written).
+/// Runs the whole analysis (no files written): the published case as a
+/// built-in case through the one driver, then (with a pressure) the
+/// pressure alone for comparison.
 pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     let start = std::time::Instant::now();
     let o = options;
-    let d = &o.data;
     if !(o.friction.is_finite() && o.friction >= 0.0) {
         return Err(format!(
             "--friction {}: must be a non-negative coefficient",
@@ -254,176 +92,46 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     if !(o.cohesion.is_finite() && o.cohesion >= 0.0) {
         return Err(format!("--cohesion {}: must be non-negative (Pa)", o.cohesion).into());
     }
-    let mut times = o.times.clone();
-    if times.is_empty() || times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-        return Err("--times: give positive output times in seconds".into());
-    }
-    times.sort_by(f64::total_cmp);
-    times.dedup();
-    let end = *times.last().unwrap_or(&72000.0);
-    let mesh = vessel_mesh(&o.geometry, &o.mesh)?;
-
-    // Heat conduction.
-    let thermal_start = std::time::Instant::now();
-    let mut thermal = ThermalModel::new(&mesh);
-    thermal.set_material_everywhere(tecon_thermal::Material::new(
-        d.conductivity,
-        d.density,
-        d.specific_heat,
-    ))?;
-    thermal.add_edge_bc("inner", EdgeBc::convection(d.film, d.ambient))?;
-    thermal.add_edge_bc("outer", EdgeBc::convection(d.film, d.ambient))?;
-    if mesh.interfaces().contains_key("core_layer") {
-        thermal.set_interface_conductance("core_layer", d.interface_conductance)?;
-    }
-    thermal
-        .set_initial_default(d.ambient)?
-        .set_initial_region("weld", d.weld_temperature)?;
-    let system = thermal.assemble()?;
-    let t_ref = system
-        .reference_temperature()
-        .ok_or("the thermal model has no initial temperature")?
-        .to_vec();
-    let pb = progress(times.len() as u64 * 2 + 1, o.quiet);
-    pb.set_message("heat conduction");
-    let mut snaps: Vec<Snapshot> = Vec::new();
-    let summary = tecon_thermal::run_transient(
-        &system,
-        &schedule(end)?,
-        ThetaScheme::crank_nicolson(),
-        &times,
-        |s| {
-            snaps.push(s.clone());
-            pb.inc(1);
-        },
-    )?;
-
-    let thermal_seconds = thermal_start.elapsed().as_secs_f64();
-
-    // Thermoelastic contact.
-    let contact_start = std::time::Instant::now();
-    let mut newton = NewtonStats::default();
-    let mat = Material {
-        youngs_modulus: d.youngs_modulus,
-        poisson_ratio: d.poisson_ratio,
-        expansion: d.expansion,
+    let mut mesh = vessel_mesh(&o.geometry, &o.mesh)?;
+    let case = crate::builtin::vessel_case(o, &mesh)?;
+    setup::declare_interfaces(&case, &mut mesh)?;
+    let (outcome, pressure_only) = {
+        let p = setup::prepare(&case, &mesh)?;
+        let outcome = driver::run(&p.setup)?;
+        let alone = match o.pressure {
+            Some(_) => Some(driver::solve_mechanical(
+                &p.setup.model,
+                p.setup.solver,
+                LoadFactors::FULL,
+            )?),
+            None => None,
+        };
+        (outcome, alone)
     };
-    let h = o.geometry.layer_thickness / o.mesh.layer_rows as f64;
-    let k_n = o.penalty_factor * d.youngs_modulus / h;
-    let law = PaperJoint::new(
-        GhaboussiNormal::penalty(k_n)?,
-        k_n,
-        o.cohesion,
-        o.friction.atan(),
-    )?;
-    let mut model = ElasticModel::new(&mesh, o.analysis)
-        .interface_normals(o.normals)
-        .material_everywhere(mat)?
-        .symmetry("sym0")?
-        .symmetry("sym180")?
-        .remove_free_translations(true);
-    if mesh.interfaces().contains_key("core_layer") {
-        model = model.interface("core_layer", Joint::Frictional(law))?;
-    }
-    if let Some(p) = o.pressure {
-        model = model.pressure("inner", p)?;
-    }
-    let opts = SolverOptions {
-        augmented_lagrangian: o.augmented_lagrangian,
-        // the opening front under the hot weld advances about one interface
-        // point per iteration on fine meshes
-        max_iterations: 150,
-        ..Default::default()
-    };
-    let mut solver = StaticSolver::new(&model, opts)?;
     let mut results = Vec::new();
-    for s in snaps {
-        pb.set_message(format!("contact at t = {:.0} s", s.time));
-        let delta_t: Vec<f64> = s
-            .element_temperature
-            .iter()
-            .zip(&t_ref)
-            .map(|(t, r)| t - r)
-            .collect();
-        let reports = solver.advance(&Loads {
-            delta_t,
-            ..Loads::zero()
-        })?;
-        newton.iterations += reports.iter().map(|r| r.iterations).sum::<usize>();
-        newton.increments += reports.len();
-        if o.verbose {
-            for r in &reports {
-                pb.suspend(|| {
-                    eprintln!(
-                        "t = {} s, load fraction {:.3}: {} Newton iterations, {} multiplier updates; last pass:",
-                        s.time, r.fraction, r.iterations, r.augmentations
-                    );
-                    for c in &r.cutbacks {
-                        eprintln!("  cut back: {c}");
-                    }
-                    for h in &r.history {
-                        eprintln!("  {h}");
-                    }
-                });
-            }
-        }
-        results.push(TimeResult {
-            time: s.time,
-            displacement: solver.displacement().to_vec(),
-            stress: solver.stresses(),
-            interface: solver.interface_results(),
-            max_iterations: reports
-                .iter()
-                .map(|r| r.max_pass_iterations)
-                .max()
-                .unwrap_or(0),
-            max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
-            thermal: s,
-        });
-        pb.inc(1);
-    }
     let mut operating = None;
-    let mut pressure_only = None;
-    if o.pressure.is_some() {
-        pb.set_message("operating pressure");
-        let mut l = solver.loads().clone();
-        l.pressure = 1.0;
-        solver.advance(&l)?;
-        operating = Some((solver.stresses(), solver.displacement().to_vec()));
-        let mut alone = StaticSolver::new(&model, opts)?;
-        alone.advance(&Loads {
-            pressure: 1.0,
-            ..Loads::zero()
-        })?;
-        pressure_only = Some((alone.stresses(), alone.displacement().to_vec()));
+    for s in outcome.states {
+        if s.stage == 0 {
+            results.push(s);
+        } else {
+            operating = Some((s.stress, s.displacement));
+        }
     }
-    newton.solves = solver.solve_stats();
-    let contact_seconds = contact_start.elapsed().as_secs_f64();
-    pb.inc(1);
-    pb.finish_and_clear();
-    let notes = solver.notes().to_vec();
     Ok(VesselRun {
         options: o.clone(),
         mesh,
         results,
         operating,
         pressure_only,
-        heat_balance: summary_residual(&summary),
-        thermal_steps: summary_steps(&summary),
-        notes,
+        heat_balance: outcome.thermal.max_balance_residual.unwrap_or(0.0),
+        thermal_steps: outcome.thermal.steps,
+        notes: outcome.notes,
         seconds: start.elapsed().as_secs_f64(),
-        thermal_seconds,
-        contact_seconds,
-        newton,
+        thermal_seconds: outcome.thermal_seconds,
+        contact_seconds: outcome.contact_seconds,
+        newton: outcome.newton,
+        interfaces: outcome.interfaces,
     })
-}
-
-fn summary_residual(s: &tecon_thermal::TransientSummary) -> f64 {
-    s.max_balance_residual
-}
-
-fn summary_steps(s: &tecon_thermal::TransientSummary) -> usize {
-    s.steps
 }
 
 /// Polar coordinates (r, θ) of a point.
@@ -663,7 +371,7 @@ pub fn summary(run: &VesselRun) -> Value {
             "hoop_force_balance": f,
             "hoop_force_balance_relative": if fa > 0.0 { f / fa } else { 0.0 },
             "interface_points": { "open": open, "slip": slip, "total": last.interface.len() },
-            "max_temperature_change": last.thermal.temperature.iter().map(|t| (t - run.options.data.ambient).abs()).fold(0.0, f64::max),
+            "max_temperature_change": temperature(last).iter().map(|t| (t - run.options.data.ambient).abs()).fold(0.0, f64::max),
         });
     }
     if let (Some((op, _)), Some((alone, _)), Some(p)) =
@@ -779,39 +487,21 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
     s
 }
 
-fn csv(path: &Path, header: &str, rows: impl IntoIterator<Item = Vec<f64>>) -> CliResult<()> {
-    let mut s = String::from(header);
-    s.push('\n');
-    for r in rows {
-        let line: Vec<String> = r.iter().map(|v| format!("{v:.9e}")).collect();
-        s += &line.join(",");
-        s.push('\n');
-    }
-    std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(())
+/// Nodal temperatures of a vessel state (a vessel state always has them).
+fn temperature(r: &TimeResult) -> &[f64] {
+    r.temperature.as_deref().unwrap_or(&[])
 }
 
-fn plot(
-    dir: &Path,
-    name: &str,
-    title: &str,
-    x: &str,
-    y: &str,
-    series: Vec<Series>,
-) -> CliResult<()> {
-    LinePlot {
-        title: title.into(),
-        x_label: x.into(),
-        y_label: y.into(),
-        series,
-    }
-    .write_svg_png(&dir.join(name))?;
-    Ok(())
-}
-
-/// Writes CSVs, plots, VTK and summary.json into `dir`.
+/// Writes the figures (CSV, SVG, PNG), the per-state files and
+/// `summary.json` into `dir` (staged like every case: a temporary folder,
+/// moved into place at the end, `summary.json` last).
 pub fn write_outputs(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<()> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    writers::staged(dir, |tmp| write_files(run, v, tmp))
+}
+
+/// The vessel's figures, then the per-state files and the summary, into
+/// `dir`; returns the names written, `summary.json` last.
+fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>> {
     let mesh = &run.mesh;
     let g = &run.options.geometry;
     let (core, layer) = bodies(mesh);
@@ -829,19 +519,11 @@ pub fn write_outputs(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<()> {
         for (label, nodes) in [("inner", &l_in), ("outer", &l_out)] {
             series6.push(Series {
                 label: format!("layer {label}, t = {} s", r.time),
-                points: nodes
-                    .iter()
-                    .map(|&i| (deg(i), r.thermal.temperature[i]))
-                    .collect(),
+                points: nodes.iter().map(|&i| (deg(i), temperature(r)[i])).collect(),
             });
         }
         for (&a, &b) in l_in.iter().zip(&l_out) {
-            rows6.push(vec![
-                r.time,
-                deg(a),
-                r.thermal.temperature[a],
-                r.thermal.temperature[b],
-            ]);
+            rows6.push(vec![r.time, deg(a), temperature(r)[a], temperature(r)[b]]);
         }
     }
     csv(
@@ -874,9 +556,9 @@ pub fn write_outputs(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<()> {
             {
                 let wall = 100.0 * (r - g.inner_radius) / (g.outer_radius() - g.inner_radius);
                 for res in &run.results {
-                    rows7.push(vec![res.time, deg(i), wall, res.thermal.temperature[i]]);
+                    rows7.push(vec![res.time, deg(i), wall, temperature(res)[i]]);
                 }
-                pts.push((wall, early.thermal.temperature[i]));
+                pts.push((wall, temperature(early)[i]));
             }
         }
         series7.push(Series {
@@ -1118,80 +800,30 @@ pub fn write_outputs(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<()> {
         ],
     )?;
 
-    // VTK time series.
-    let mut entries = Vec::new();
-    for (k, r) in run.results.iter().enumerate() {
-        let name = format!("vessel_{k:03}.vtu");
-        write_state_vtu(
-            mesh,
-            &dir.join(&name),
-            &r.thermal.temperature,
-            &r.displacement,
-            &r.stress,
-        )?;
-        entries.push((r.time, name));
-    }
-    write_pvd(dir.join("vessel.pvd"), &entries)?;
-    std::fs::write(dir.join("summary.json"), serde_json::to_string_pretty(v)?)
-        .map_err(|e| format!("{}: {e}", dir.display()))?;
-    Ok(())
-}
-
-fn write_state_vtu(
-    mesh: &Mesh,
-    path: &Path,
-    t: &[f64],
-    u: &[f64],
-    s: &StressField,
-) -> CliResult<()> {
-    let disp: Vec<[f64; 2]> = (0..mesh.n_nodes())
-        .map(|i| [u[2 * i], u[2 * i + 1]])
+    // The figures written so far, then the per-state files every case
+    // writes (VTK series, interface CSV), then the summary.
+    let mut files: Vec<String> = std::fs::read_dir(dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().to_string())
         .collect();
-    let nodal: Vec<f64> = s.nodal.iter().flat_map(|v| v.iter().copied()).collect();
-    let polar_n: Vec<f64> = (0..mesh.n_nodes())
-        .flat_map(|i| polar(s.nodal[i], mesh.nodes()[i], [0.0; 2]))
-        .collect();
-    let vm: Vec<f64> = s.nodal.iter().map(|v| von_mises(*v)).collect();
-    let cell: Vec<f64> = s.element.iter().flat_map(|v| v.iter().copied()).collect();
-    let region: Vec<f64> = mesh.element_regions().iter().map(|&r| r as f64).collect();
-    write_vtu(
-        path,
-        &VtuPiece {
-            points: mesh.nodes(),
-            triangles: mesh.triangles(),
-            quads: &[],
-            point_data: &[
-                ("temperature_C", Field::Scalars(t)),
-                ("displacement_m", Field::Vectors(&disp)),
-                (
-                    "stress_xx_yy_xy_zz_Pa",
-                    Field::Components {
-                        n: 4,
-                        values: &nodal,
-                    },
-                ),
-                (
-                    "stress_rr_tt_rt_Pa",
-                    Field::Components {
-                        n: 3,
-                        values: &polar_n,
-                    },
-                ),
-                ("von_mises_Pa", Field::Scalars(&vm)),
-            ],
-            cell_data: &[
-                (
-                    "stress_xx_yy_xy_zz_Pa",
-                    Field::Components {
-                        n: 4,
-                        values: &cell,
-                    },
-                ),
-                ("region", Field::Scalars(&region)),
-            ],
+    files.sort();
+    files.extend(writers::write_states(
+        dir,
+        mesh,
+        &run.interfaces,
+        &run.results,
+        StateFiles {
+            vtu_stem: "vessel",
+            pvd: "vessel.pvd",
+            vtk: true,
+            csv_nodal: false,
+            csv_interface: true,
         },
-    )?;
-    Ok(())
+    )?);
+    writers::write(&dir.join("summary.json"), &serde_json::to_string_pretty(v)?)?;
+    files.push("summary.json".into());
+    Ok(files)
 }
 
 /// Arguments of `tecon vessel`.

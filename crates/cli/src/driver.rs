@@ -1,0 +1,512 @@
+//! The one analysis driver behind `tecon run` and `tecon vessel`.
+//!
+//! A front door builds a [`Setup`] — the mesh, the thermal model and its
+//! procedure, the elastic model, the solver options and the load stages —
+//! and hands it to [`run`], which reads like the physics:
+//!
+//! ```text
+//! heat conduction (transient, steady or the initial field held)
+//!   → for every stage, for every output time of the stage:
+//!       thermoelastic contact solve from the previous converged state
+//!   → Outcome (states, statistics, notes, timings) → writers
+//! ```
+//!
+//! Errors are typed ([`DriverError`]) and name the phase (and the time of a
+//! failed contact solve); the front doors add the case file or option.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use tecon_elastic::{
+    ElasticError, ElasticModel, IncrementReport, InterfacePointResult, Loads, SolverOptions,
+    StaticSolver, StressField,
+};
+use tecon_mesh::Mesh;
+use tecon_thermal::{ThermalError, ThermalModel, ThetaScheme, TimeSchedule};
+
+/// Errors of the driver, by phase.
+#[derive(Debug, thiserror::Error)]
+pub enum DriverError {
+    /// Assembling the thermal system failed.
+    #[error("thermal: {0}")]
+    ThermalAssembly(ThermalError),
+    /// The thermal system has no initial temperature.
+    #[error("thermal.initial: no initial temperature")]
+    NoInitialTemperature,
+    /// The steady heat conduction failed.
+    #[error("thermal (steady): {0}")]
+    Steady(ThermalError),
+    /// The transient heat conduction failed (schedule or output times).
+    #[error("output.times / thermal.schedule: {0}")]
+    Transient(ThermalError),
+    /// The elastic model could not be set up.
+    #[error("mechanical: {0}")]
+    Mechanical(ElasticError),
+    /// A contact solve failed.
+    #[error("mechanical solve at t = {time} s: {source}")]
+    ContactSolve {
+        /// Time of the state being solved, s.
+        time: f64,
+        /// The solver's error.
+        source: ElasticError,
+    },
+}
+
+/// How the temperature field is obtained.
+#[derive(Debug, Clone)]
+pub enum Procedure {
+    /// The initial field is held (no boundary conditions, no schedule).
+    Held,
+    /// The steady state of the boundary conditions.
+    Steady,
+    /// A transient with output times.
+    Transient {
+        /// Time steps.
+        schedule: TimeSchedule,
+        /// θ-method.
+        scheme: ThetaScheme,
+        /// Output times, s (sorted, distinct).
+        times: Vec<f64>,
+    },
+}
+
+/// The heat-conduction part of a setup.
+#[derive(Debug)]
+pub struct ThermalSetup<'m> {
+    /// The thermal model (assembled by the driver).
+    pub model: ThermalModel<'m>,
+    /// How the temperatures are obtained.
+    pub procedure: Procedure,
+    /// Stress-free temperature of every element (None: each element's
+    /// initial temperature).
+    pub reference_temperature: Option<f64>,
+}
+
+/// Factors on the model's mechanical loads during a stage.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoadFactors {
+    /// Factor on the pressures.
+    pub pressure: f64,
+    /// Factor on the prescribed displacements.
+    pub displacement: f64,
+    /// Factor on the body forces.
+    pub body_force: f64,
+}
+
+impl LoadFactors {
+    /// All mechanical loads off.
+    pub const OFF: LoadFactors = LoadFactors {
+        pressure: 0.0,
+        displacement: 0.0,
+        body_force: 0.0,
+    };
+    /// All mechanical loads at full value.
+    pub const FULL: LoadFactors = LoadFactors {
+        pressure: 1.0,
+        displacement: 1.0,
+        body_force: 1.0,
+    };
+}
+
+/// Temperatures a stage solves with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StageTemperature {
+    /// One contact solve per state of the thermal procedure.
+    FollowThermal,
+    /// One contact solve with the temperatures of the last state solved so
+    /// far held (e.g. operating pressure after cooling).
+    HoldLast,
+}
+
+/// A load stage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stage {
+    /// Name (summary and progress).
+    pub name: String,
+    /// Mechanical load factors of the stage.
+    pub loads: LoadFactors,
+    /// Which temperatures the stage solves with.
+    pub temperature: StageTemperature,
+}
+
+/// Everything the driver needs; the mesh is borrowed from the front door.
+#[derive(Debug)]
+pub struct Setup<'m> {
+    /// The mesh.
+    pub mesh: &'m Mesh,
+    /// Heat conduction (None: purely mechanical, one solve per stage).
+    pub thermal: Option<ThermalSetup<'m>>,
+    /// The elastic model with its interfaces.
+    pub model: ElasticModel<'m>,
+    /// Contact solver options.
+    pub solver: SolverOptions,
+    /// Load stages, in order.
+    pub stages: Vec<Stage>,
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+    /// Print the Newton history of every increment to stderr.
+    pub verbose: bool,
+}
+
+/// The state at one output time of one stage.
+#[derive(Debug, Clone)]
+pub struct State {
+    /// Time, s (0 for a steady, held or purely mechanical state).
+    pub time: f64,
+    /// Index of the stage in [`Setup::stages`].
+    pub stage: usize,
+    /// Nodal temperatures (None without heat conduction).
+    pub temperature: Option<Vec<f64>>,
+    /// Element mean temperatures (None without heat conduction).
+    pub element_temperature: Option<Vec<f64>>,
+    /// Relative heat-balance residual of the thermal state.
+    pub heat_balance: Option<f64>,
+    /// Displacements (2 per node).
+    pub displacement: Vec<f64>,
+    /// Out-of-plane strain (generalised plane strain; 0 otherwise).
+    pub eps_zz: f64,
+    /// Stresses.
+    pub stress: StressField,
+    /// Interface points (all interfaces, in model order).
+    pub interface: Vec<InterfacePointResult>,
+    /// Most Newton iterations of one pass in any increment.
+    pub max_iterations: usize,
+    /// Most augmented-Lagrangian updates in any increment.
+    pub max_augmentations: usize,
+}
+
+/// Work done by the contact analysis.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NewtonStats {
+    /// Newton iterations in all (every pass of every increment).
+    pub iterations: usize,
+    /// Converged increments (with cut-backs, more than the output times).
+    pub increments: usize,
+    /// Tangent factorisations / reused factors / low-rank corrected solves.
+    pub solves: tecon_fem::UpdateStats,
+}
+
+/// What the heat conduction did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ThermalMode {
+    /// No heat conduction.
+    None,
+    /// Initial field held.
+    Held,
+    /// Steady state.
+    Steady,
+    /// Transient.
+    Transient,
+}
+
+/// Summary of the heat conduction.
+#[derive(Debug, Clone, Copy)]
+pub struct ThermalInfo {
+    /// Mode.
+    pub mode: ThermalMode,
+    /// Time steps (transient).
+    pub steps: usize,
+    /// Largest relative heat-balance residual (None: held / no heat conduction).
+    pub max_balance_residual: Option<f64>,
+}
+
+/// A finished analysis.
+#[derive(Debug)]
+pub struct Outcome {
+    /// Names of the model interfaces (index of [`InterfacePointResult::interface`]).
+    pub interfaces: Vec<String>,
+    /// One state per output time and stage, in order.
+    pub states: Vec<State>,
+    /// Heat conduction summary.
+    pub thermal: ThermalInfo,
+    /// Contact work.
+    pub newton: NewtonStats,
+    /// Notes from the solvers.
+    pub notes: Vec<String>,
+    /// Wall-clock seconds of heat conduction.
+    pub thermal_seconds: f64,
+    /// Wall-clock seconds of the contact solves.
+    pub contact_seconds: f64,
+}
+
+/// A temperature state before the contact solve.
+struct ThermalState {
+    time: f64,
+    temperature: Vec<f64>,
+    element_temperature: Vec<f64>,
+    heat_balance: Option<f64>,
+}
+
+fn progress(len: u64, show: bool) -> ProgressBar {
+    let target = if show {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    };
+    let pb = ProgressBar::with_draw_target(Some(len), target);
+    if let Ok(style) =
+        ProgressStyle::with_template("{spinner} {msg:40} [{bar:30}] {pos}/{len} {elapsed}")
+    {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb
+}
+
+/// Runs the analysis: heat conduction, then the stages' contact solves.
+pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
+    let n_out = match setup.thermal.as_ref().map(|t| &t.procedure) {
+        Some(Procedure::Transient { times, .. }) => times.len(),
+        _ => 1,
+    };
+    let pb = progress((2 * n_out + setup.stages.len() + 1) as u64, setup.progress);
+
+    pb.set_message("heat conduction");
+    let clock = std::time::Instant::now();
+    let (thermal_states, reference, thermal) = heat_conduction(setup, &pb)?;
+    let thermal_seconds = clock.elapsed().as_secs_f64();
+
+    let clock = std::time::Instant::now();
+    let mut contact = Contact::new(setup, reference)?;
+    let mut states: Vec<State> = Vec::new();
+    for (k, stage) in setup.stages.iter().enumerate() {
+        match stage.temperature {
+            StageTemperature::FollowThermal if thermal_states.is_empty() => {
+                pb.set_message(format!("contact: {}", stage.name));
+                states.push(contact.solve(k, stage, None, &pb)?);
+            }
+            StageTemperature::FollowThermal => {
+                for th in &thermal_states {
+                    pb.set_message(format!("contact at t = {:.0} s", th.time));
+                    states.push(contact.solve(k, stage, Some(th), &pb)?);
+                    pb.inc(1);
+                }
+            }
+            StageTemperature::HoldLast => {
+                pb.set_message(format!("contact: {}", stage.name));
+                let held = states.last().and_then(|s| {
+                    Some(ThermalState {
+                        time: s.time,
+                        temperature: s.temperature.clone()?,
+                        element_temperature: s.element_temperature.clone()?,
+                        heat_balance: s.heat_balance,
+                    })
+                });
+                states.push(contact.solve(k, stage, held.as_ref(), &pb)?);
+            }
+        }
+    }
+    let contact_seconds = clock.elapsed().as_secs_f64();
+    pb.inc(1);
+    pb.finish_and_clear();
+    Ok(Outcome {
+        interfaces: contact.interfaces(),
+        states,
+        thermal,
+        newton: contact.stats(),
+        notes: contact.solver.notes().to_vec(),
+        thermal_seconds,
+        contact_seconds,
+    })
+}
+
+type HeatConduction = (Vec<ThermalState>, Option<Vec<f64>>, ThermalInfo);
+
+/// Heat conduction of the whole procedure (one-way: before any contact solve).
+fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction, DriverError> {
+    let Some(th) = &setup.thermal else {
+        let info = ThermalInfo {
+            mode: ThermalMode::None,
+            steps: 0,
+            max_balance_residual: None,
+        };
+        return Ok((Vec::new(), None, info));
+    };
+    let system = th.model.assemble().map_err(DriverError::ThermalAssembly)?;
+    let reference = match th.reference_temperature {
+        Some(r) => vec![r; setup.mesh.n_triangles()],
+        None => system
+            .reference_temperature()
+            .ok_or(DriverError::NoInitialTemperature)?,
+    };
+    let mut states = Vec::new();
+    let info = match &th.procedure {
+        Procedure::Held => {
+            let t0 = system
+                .initial_temperature()
+                .ok_or(DriverError::NoInitialTemperature)?
+                .to_vec();
+            states.push(ThermalState {
+                time: 0.0,
+                element_temperature: system.element_means(&t0),
+                temperature: t0,
+                heat_balance: None,
+            });
+            ThermalInfo {
+                mode: ThermalMode::Held,
+                steps: 0,
+                max_balance_residual: None,
+            }
+        }
+        Procedure::Steady => {
+            let s = system.solve_steady().map_err(DriverError::Steady)?;
+            let res = s.balance.relative_residual();
+            states.push(ThermalState {
+                time: 0.0,
+                temperature: s.temperature,
+                element_temperature: s.element_temperature,
+                heat_balance: Some(res),
+            });
+            ThermalInfo {
+                mode: ThermalMode::Steady,
+                steps: 0,
+                max_balance_residual: Some(res),
+            }
+        }
+        Procedure::Transient {
+            schedule,
+            scheme,
+            times,
+        } => {
+            let summary = tecon_thermal::run_transient(&system, schedule, *scheme, times, |s| {
+                // report the requested output time (the stepper's clock
+                // carries round-off from summing steps)
+                let k = states.len();
+                states.push(ThermalState {
+                    time: times.get(k).copied().unwrap_or(s.time),
+                    temperature: s.temperature.clone(),
+                    element_temperature: s.element_temperature.clone(),
+                    heat_balance: Some(s.balance.relative_residual()),
+                });
+                pb.inc(1);
+            })
+            .map_err(DriverError::Transient)?;
+            ThermalInfo {
+                mode: ThermalMode::Transient,
+                steps: summary.steps,
+                max_balance_residual: Some(summary.max_balance_residual),
+            }
+        }
+    };
+    Ok((states, Some(reference), info))
+}
+
+/// The contact solver with its path-dependent state and statistics.
+struct Contact<'s> {
+    setup: &'s Setup<'s>,
+    solver: StaticSolver<'s>,
+    reference: Option<Vec<f64>>,
+    newton: NewtonStats,
+}
+
+impl<'s> Contact<'s> {
+    fn new(setup: &'s Setup<'s>, reference: Option<Vec<f64>>) -> Result<Self, DriverError> {
+        let solver =
+            StaticSolver::new(&setup.model, setup.solver).map_err(DriverError::Mechanical)?;
+        Ok(Contact {
+            setup,
+            solver,
+            reference,
+            newton: NewtonStats::default(),
+        })
+    }
+
+    fn interfaces(&self) -> Vec<String> {
+        self.setup
+            .model
+            .interfaces()
+            .iter()
+            .map(|i| i.name.clone())
+            .collect()
+    }
+
+    fn stats(&self) -> NewtonStats {
+        NewtonStats {
+            solves: self.solver.solve_stats(),
+            ..self.newton
+        }
+    }
+
+    /// One contact solve from the previous converged state.
+    fn solve(
+        &mut self,
+        stage_index: usize,
+        stage: &Stage,
+        th: Option<&ThermalState>,
+        pb: &ProgressBar,
+    ) -> Result<State, DriverError> {
+        let delta_t = match (th, &self.reference) {
+            (Some(s), Some(r)) => s
+                .element_temperature
+                .iter()
+                .zip(r)
+                .map(|(t, r)| t - r)
+                .collect(),
+            _ => Vec::new(),
+        };
+        let loads = Loads {
+            delta_t,
+            pressure: stage.loads.pressure,
+            displacement: stage.loads.displacement,
+            body_force: stage.loads.body_force,
+        };
+        let time = th.map_or(0.0, |s| s.time);
+        let reports = self
+            .solver
+            .advance(&loads)
+            .map_err(|source| DriverError::ContactSolve { time, source })?;
+        self.newton.iterations += reports.iter().map(|r| r.iterations).sum::<usize>();
+        self.newton.increments += reports.len();
+        if self.setup.verbose {
+            pb.suspend(|| print_history(time, &reports));
+        }
+        Ok(State {
+            time,
+            stage: stage_index,
+            temperature: th.map(|s| s.temperature.clone()),
+            element_temperature: th.map(|s| s.element_temperature.clone()),
+            heat_balance: th.and_then(|s| s.heat_balance),
+            displacement: self.solver.displacement().to_vec(),
+            eps_zz: self.solver.eps_zz(),
+            stress: self.solver.stresses(),
+            interface: self.solver.interface_results(),
+            max_iterations: reports
+                .iter()
+                .map(|r| r.max_pass_iterations)
+                .max()
+                .unwrap_or(0),
+            max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
+        })
+    }
+}
+
+/// The Newton history of the increments of one contact solve, on stderr.
+fn print_history(time: f64, reports: &[IncrementReport]) {
+    for r in reports {
+        eprintln!(
+            "t = {time} s, load fraction {:.3}: {} Newton iterations, {} multiplier updates; last pass:",
+            r.fraction, r.iterations, r.augmentations
+        );
+        for c in &r.cutbacks {
+            eprintln!("  cut back: {c}");
+        }
+        for h in &r.history {
+            eprintln!("  {h}");
+        }
+    }
+}
+
+/// One mechanical solve from the unloaded state with the given load factors
+/// and no temperature change (e.g. the operating pressure alone).
+pub fn solve_mechanical(
+    model: &ElasticModel<'_>,
+    options: SolverOptions,
+    loads: LoadFactors,
+) -> Result<(StressField, Vec<f64>), DriverError> {
+    let mut s = StaticSolver::new(model, options).map_err(DriverError::Mechanical)?;
+    s.advance(&Loads {
+        pressure: loads.pressure,
+        displacement: loads.displacement,
+        body_force: loads.body_force,
+        ..Loads::zero()
+    })
+    .map_err(|source| DriverError::ContactSolve { time: 0.0, source })?;
+    Ok((s.stresses(), s.displacement().to_vec()))
+}
