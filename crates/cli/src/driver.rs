@@ -39,14 +39,14 @@ pub enum DriverError {
     Transient(ThermalError),
     /// The elastic model could not be set up.
     #[error("mechanical: {0}")]
-    Mechanical(ElasticError),
+    Mechanical(Box<ElasticError>),
     /// A contact solve failed.
     #[error("mechanical solve at t = {time} s: {source}")]
     ContactSolve {
         /// Time of the state being solved, s.
         time: f64,
         /// The solver's error.
-        source: ElasticError,
+        source: Box<ElasticError>,
     },
 }
 
@@ -398,8 +398,8 @@ struct Contact<'s> {
 
 impl<'s> Contact<'s> {
     fn new(setup: &'s Setup<'s>, reference: Option<Vec<f64>>) -> Result<Self, DriverError> {
-        let solver =
-            StaticSolver::new(&setup.model, setup.solver).map_err(DriverError::Mechanical)?;
+        let solver = StaticSolver::new(&setup.model, setup.solver)
+            .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
         Ok(Contact {
             setup,
             solver,
@@ -451,7 +451,10 @@ impl<'s> Contact<'s> {
         let reports = self
             .solver
             .advance(&loads)
-            .map_err(|source| DriverError::ContactSolve { time, source })?;
+            .map_err(|e| DriverError::ContactSolve {
+                time,
+                source: Box::new(e),
+            })?;
         self.newton.iterations += reports.iter().map(|r| r.iterations).sum::<usize>();
         self.newton.increments += reports.len();
         if self.setup.verbose {
@@ -500,13 +503,17 @@ pub fn solve_mechanical(
     options: SolverOptions,
     loads: LoadFactors,
 ) -> Result<(StressField, Vec<f64>), DriverError> {
-    let mut s = StaticSolver::new(model, options).map_err(DriverError::Mechanical)?;
+    let mut s =
+        StaticSolver::new(model, options).map_err(|e| DriverError::Mechanical(Box::new(e)))?;
     s.advance(&Loads {
         pressure: loads.pressure,
         displacement: loads.displacement,
         body_force: loads.body_force,
         ..Loads::zero()
     })
-    .map_err(|source| DriverError::ContactSolve { time: 0.0, source })?;
+    .map_err(|e| DriverError::ContactSolve {
+        time: 0.0,
+        source: Box::new(e),
+    })?;
     Ok((s.stresses(), s.displacement().to_vec()))
 }
