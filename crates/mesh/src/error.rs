@@ -190,6 +190,22 @@ pub enum MeshError {
         /// Why it is rejected.
         reason: String,
     },
+    /// A mesh too large for the memory available.
+    #[error(
+        "a mesh of {triangles} triangles and {nodes} nodes needs about {:.1} GB to generate, but only {:.1} GB are available; choose a coarser mesh",
+        *.estimated_bytes as f64 / 1e9,
+        *.available_bytes as f64 / 1e9
+    )]
+    TooLarge {
+        /// Triangles requested.
+        triangles: usize,
+        /// Nodes requested.
+        nodes: usize,
+        /// Estimated peak bytes.
+        estimated_bytes: u64,
+        /// Bytes available.
+        available_bytes: u64,
+    },
     /// A mesh file that could not be read.
     #[error("{path}: {message}")]
     Io {

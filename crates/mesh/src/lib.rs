@@ -40,4 +40,6 @@ pub use interface::{DEFAULT_PAIRING_TOLERANCE, Interface, PairingTolerance};
 pub use mesh::{Body, COINCIDENCE_TOLERANCE, Mesh, MeshNotice, Point, signed_area};
 pub use msh::read_msh;
 pub use quadratic::Arc;
-pub use vessel::{VesselGeometry, VesselMeshSpec, vessel_mesh};
+pub use vessel::{
+    VesselGeometry, VesselMeshSpec, available_memory_bytes, check_memory, vessel_mesh,
+};

@@ -565,3 +565,55 @@ fn graded_mesh_shrinks_toward_the_weld_edge() {
     let e = vessel_mesh(&g, &bad).unwrap_err();
     assert!(e.to_string().contains("weld_grading"), "{e}");
 }
+
+#[test]
+fn sizes_are_predicted_and_too_large_meshes_refused() {
+    let g = VesselGeometry::default();
+    for spec in [
+        VesselMeshSpec::paper(),
+        VesselMeshSpec::refined(2).unwrap(),
+        VesselMeshSpec::graded(1).unwrap(),
+        VesselMeshSpec {
+            order: 2,
+            ..VesselMeshSpec::paper()
+        },
+        VesselMeshSpec {
+            order: 2,
+            fused_weld: true,
+            ..VesselMeshSpec::subdivided(3).unwrap()
+        },
+        VesselMeshSpec {
+            fused_weld: true,
+            ..VesselMeshSpec::paper()
+        },
+    ] {
+        let m = vessel_mesh(&g, &spec).unwrap();
+        assert_eq!(spec.n_nodes(), m.n_nodes(), "{spec:?}");
+        assert_eq!(spec.n_triangles(), m.n_triangles());
+    }
+    // level 9 (3.6e7 triangles): about 3.6 GB to generate at order 1
+    let big = VesselMeshSpec::refined(9).unwrap();
+    assert_eq!(big.n_triangles(), 35_651_584);
+    let need = big.estimated_bytes();
+    assert!((3.5e9..3.7e9).contains(&(need as f64)), "{need}");
+    let e = tecon_mesh::check_memory(&big, 2_000_000_000).unwrap_err();
+    let s = e.to_string();
+    assert!(
+        matches!(
+            e,
+            MeshError::TooLarge {
+                triangles: 35_651_584,
+                ..
+            }
+        ) && s.contains("3.6 GB")
+            && s.contains("only 2.0 GB are available"),
+        "{s}"
+    );
+    let p2 = VesselMeshSpec { order: 2, ..big };
+    assert!(p2.estimated_bytes() > 7 * need);
+    tecon_mesh::check_memory(&VesselMeshSpec::paper(), 2_000_000_000).unwrap();
+    // the probe reads /proc/meminfo where there is one
+    if std::path::Path::new("/proc/meminfo").exists() {
+        assert!(tecon_mesh::available_memory_bytes().unwrap() > 0);
+    }
+}
