@@ -28,6 +28,7 @@ pub mod generators;
 mod interface;
 mod mesh;
 pub mod msh;
+pub mod multilayer;
 pub mod quadratic;
 pub mod vessel;
 pub mod vtk;
@@ -39,6 +40,10 @@ pub use generators::{
 pub use interface::{DEFAULT_PAIRING_TOLERANCE, Interface, PairingTolerance};
 pub use mesh::{Body, COINCIDENCE_TOLERANCE, Mesh, MeshNotice, Point, signed_area};
 pub use msh::read_msh;
+pub use multilayer::{
+    MultilayerGeometry, MultilayerMeshSpec, WeldedLayer, multilayer_station_angles,
+    multilayer_vessel_mesh,
+};
 pub use quadratic::Arc;
 pub use vessel::{
     VesselGeometry, VesselMeshSpec, available_memory_bytes, check_memory, vessel_mesh,
