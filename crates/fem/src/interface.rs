@@ -130,6 +130,12 @@ pub enum InterfaceGeometryError {
         /// Largest offset admitted, `tolerance · L`.
         allowed: f64,
     },
+    /// The bottom face of a 3-pair element folds back on itself: its mid
+    /// node lies outside the middle half of the chord 1→2.
+    #[error(
+        "interface bottom face 1→5→2 folds back (mid node 5 outside the middle half of the face): {0}"
+    )]
+    FoldedFace(String),
     /// The facing tolerance is negative or not finite.
     #[error("interface facing tolerance must be finite and non-negative, got {0}")]
     InvalidTolerance(f64),
