@@ -1,7 +1,8 @@
 //! # tecon-contact: interface elements and contact laws
 //!
-//! Constitutive laws of joints ([`ContactLaw`]) and the 4-node interface
-//! element ([`InterfaceElement`]) that joins two bodies along a line in a
+//! Constitutive laws of joints ([`ContactLaw`]), the 4-node interface
+//! element ([`InterfaceElement`]) and the 6-node quadratic one with three
+//! node pairs ([`QuadraticInterfaceElement`]) that join two bodies along a line in a
 //! plane (strain) analysis. The crate knows nothing of meshes; the element
 //! geometry (frame, integration rules, jump operator) is shared with the
 //! thermal interface element through [`tecon_fem::interface`] and
@@ -34,6 +35,7 @@
 //! | `L`, `ζ` | element length, local coordinate `ζ ∈ [−L/2, L/2]` | m |
 //! | `N₁`, `N₂` | `(1 ∓ 2ζ/L)/2` | – |
 //! | `b` | scalar jump operator `[−N₁, −N₂, N₂, N₁]` over nodes 1..4 | – |
+//! | `s`, `N₅` | quadratic element: face coordinate `s ∈ [−1, 1]`; `N₁ = s(s−1)/2`, `N₂ = s(s+1)/2`, `N₅ = 1 − s²`; `b = [−N₁, −N₂, N₂, N₁, −N₅, N₅]` over nodes 1..6 | – |
 //! | `B` | 2 × 8 jump operator, `⟦u⟧ = B u` | – |
 //! | `⟦u⟧ = [Δu_t, Δu_n]` | displacement jump top − bottom, local; `Δu_n > 0` opens | m |
 //! | `[τ, σ]` = `[t_s, t_n]` | traction on the top face's bottom side, local; `σ > 0` tension | Pa |
@@ -72,6 +74,7 @@
 #![warn(missing_docs)]
 
 mod element;
+mod element3;
 mod error;
 mod joint;
 mod law;
@@ -79,6 +82,7 @@ mod linear;
 mod normal;
 
 pub use element::{ElementResponse, InterfaceElement, Matrix8, PointOutput, Vector8};
+pub use element3::{Matrix12, QuadraticElementResponse, QuadraticInterfaceElement, Vector12};
 pub use error::{ContactError, LawError};
 pub use joint::{ElasticJoint, FrictionBound, JointState, MohrCoulomb, PaperJoint};
 pub use law::{Augmentation, ContactLaw, ContactStatus, LawResponse};
@@ -95,3 +99,5 @@ pub use tecon_fem::interface::{
     DEFAULT_FACING_TOLERANCE, InterfaceGeometry, InterfaceGeometryError, InterfacePoint,
     InterfaceQuadrature,
 };
+/// Re-export of the shared 3-pair interface geometry (`tecon_fem::interface3`).
+pub use tecon_fem::interface3::{Interface3Geometry, Interface3Point};

@@ -1,4 +1,4 @@
-//! Element kernels: the linear triangle with thermal strain.
+//! Element kernels: the linear and the quadratic (6-node) triangle with thermal strain.
 //!
 //! Plane strain / stress: K = A Bᵀ D B, thermal load f = A Bᵀ D ε₀ with
 //! ε₀ = κ α ΔT (1, 1, 0), κ = 1 + ν (plane strain) or 1 (plane stress).
@@ -6,9 +6,15 @@
 //! B₇ = [[B, 0], [0, 1]] (4×7) and the 3D modulus D₄ on (ε_xx, ε_yy, γ_xy, ε_zz),
 //! K = A B₇ᵀ D₄ B₇ and f = A B₇ᵀ D₄ α ΔT (1, 1, 0, 1); the ε_zz row states
 //! ∫ σ_zz dA = 0.
+//!
+//! The 6-node (P2, isoparametric) kernels integrate the same expressions
+//! with the degree-4 rule ([`P2_RULE`]), the temperature change
+//! interpolated from the six nodes to each point.
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use tecon_fem::quadrature::TriangleRule;
 use tecon_fem::triangle::{TriangleGeometry, elasticity_stiffness};
+use tecon_fem::triangle6::{Matrix12, Triangle6, Triangle6Point, Vector12};
 
 use crate::material::{Analysis, Material};
 
@@ -83,4 +89,95 @@ pub fn element_stress(
             [s[0], s[1], s[2], s[3]]
         }
     }
+}
+
+// ---------------------------------------------------------------------------
+// Quadratic (6-node, isoparametric) triangles
+// ---------------------------------------------------------------------------
+
+/// Integration rule of the P2 elastic kernels: degree 4 integrates the
+/// thermal load `∫ Bᵀ D ε₀(T) dA` of a straight element exactly (B linear,
+/// ΔT quadratic) and the stiffness of a curved one to O(h⁴).
+pub const P2_RULE: TriangleRule = TriangleRule::Degree4;
+
+/// Stiffness and thermal load of one plane 6-node triangle.
+///
+/// `K = ∫ Bᵀ D B dA`, `f = ∫ Bᵀ D ε₀ dA` with `ε₀ = κα ΔT(x) (1, 1, 0)`,
+/// `κα = Analysis::in_plane_expansion`, and `ΔT(x) = Σ N_a ΔT_a` the
+/// temperature change interpolated from the six nodes to each integration
+/// point. `delta_t[a] = T_a − T_ref,e`: the stress-free reference is the
+/// element's own, so a weld element and its neighbour see different
+/// eigenstrains at a shared node (the jump at the weld edge is kept).
+pub fn plane_triangle6(
+    g: &Triangle6,
+    d: &Matrix3<f64>,
+    in_plane_expansion: f64,
+    delta_t: &[f64; 6],
+) -> (Matrix12, Vector12) {
+    let mut k = Matrix12::zeros();
+    let mut f = Vector12::zeros();
+    for p in g.points(P2_RULE) {
+        let b = p.strain_matrix();
+        let db = d * b * p.weight;
+        k += b.transpose() * db;
+        let e0 = in_plane_expansion * p.interpolate(delta_t);
+        f += db.transpose() * Vector3::new(e0, e0, 0.0);
+    }
+    ((k + k.transpose()) * 0.5, f)
+}
+
+/// Stiffness and thermal load of one generalised-plane-strain 6-node
+/// triangle (dofs: 12 displacements, then ε_zz), as [`gps_triangle`] with
+/// `ΔT` interpolated to the integration points.
+pub fn gps_triangle6(
+    g: &Triangle6,
+    m: &Material,
+    delta_t: &[f64; 6],
+) -> (SMatrix<f64, 13, 13>, SVector<f64, 13>) {
+    let (l, mu) = (m.lambda(), m.mu());
+    let d3 = Analysis::GeneralisedPlaneStrain.d(m);
+    let (k12, _) = plane_triangle6(g, &d3, 0.0, delta_t);
+    let mut k = SMatrix::<f64, 13, 13>::zeros();
+    k.fixed_view_mut::<12, 12>(0, 0).copy_from(&k12);
+    let mut f = SVector::<f64, 13>::zeros();
+    let three_k = 3.0 * l + 2.0 * mu;
+    for p in g.points(P2_RULE) {
+        let b = p.strain_matrix();
+        let coupling = b.transpose() * Vector3::new(l, l, 0.0) * p.weight;
+        for i in 0..12 {
+            k[(i, 12)] += coupling[i];
+            k[(12, i)] += coupling[i];
+        }
+        k[(12, 12)] += (l + 2.0 * mu) * p.weight;
+        let s0 = three_k * m.expansion * p.interpolate(delta_t);
+        let f12 = b.transpose() * Vector3::new(s0, s0, 0.0) * p.weight;
+        for i in 0..12 {
+            f[i] += f12[i];
+        }
+        f[12] += s0 * p.weight;
+    }
+    (k, f)
+}
+
+/// Stresses (σ_xx, σ_yy, σ_xy, σ_zz) at the [`P2_RULE`] points of a 6-node
+/// triangle from its nodal displacements `u`, ε_zz (generalised plane
+/// strain) and the nodal `ΔT` (interpolated to each point), with the
+/// points' reference coordinates and weights (for recovery).
+pub fn triangle6_stresses(
+    g: &Triangle6,
+    analysis: Analysis,
+    m: &Material,
+    u: &Vector12,
+    eps_zz: f64,
+    delta_t: &[f64; 6],
+) -> [([f64; 4], Triangle6Point); 6] {
+    let mut out = [([0.0; 4], g.point([1.0 / 3.0, 1.0 / 3.0], 0.0)); 6];
+    for (q, p) in g.points(P2_RULE).enumerate() {
+        let strain = p.strain_matrix() * u;
+        out[q] = (
+            element_stress(analysis, m, strain, eps_zz, p.interpolate(delta_t)),
+            p,
+        );
+    }
+    out
 }

@@ -33,7 +33,10 @@ mod solver;
 
 pub use error::{ElasticError, IterationRecord};
 pub use joint::Joint;
-pub use kernels::{element_stress, gps_triangle, plane_triangle};
+pub use kernels::{
+    P2_RULE, element_stress, gps_triangle, gps_triangle6, plane_triangle, plane_triangle6,
+    triangle6_stresses,
+};
 pub use material::{Analysis, Material};
 pub use model::{Component, ElasticModel, InterfaceNormals, ModelInterface};
 pub use solver::{

@@ -62,6 +62,10 @@
 //! * θ: θ-method parameter (1 backward Euler, 1/2 Crank–Nicolson); Δt: time step.
 //! * Bi = hL/k: Biot number; Fo = a t/L²: Fourier number.
 //! * Heat amounts are per metre of out-of-plane thickness (J/m, W/m).
+//! * P2: 6-node triangles (corners, then mid nodes of edges (0,1), (1,2),
+//!   (2,0)), 3-node edges `[a, b, mid]`, 3-pair interfaces with
+//!   b = [−N₁, −N₂, N₂, N₁, −N₅, N₅] ([`kernels6`]); HRZ: lumped capacity
+//!   by diagonal scaling.
 
 pub mod analytical;
 mod bc;
@@ -69,6 +73,7 @@ mod conductance;
 mod error;
 mod initial;
 pub mod kernels;
+pub mod kernels6;
 mod material;
 mod model;
 mod output;
