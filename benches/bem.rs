@@ -42,8 +42,13 @@ fn bench(c: &mut Criterion) {
                 |b, &n| {
                     b.iter(|| {
                         p.install(|| {
-                            galerkin::assemble(&sec, &param, n, Daubechies::new(4).expect("db4"))
-                                .map(|s| black_box(s.matrix.len()))
+                            galerkin::assemble(
+                                &sec,
+                                std::slice::from_ref(&param),
+                                n,
+                                Daubechies::new(4).expect("db4"),
+                            )
+                            .map(|s| black_box(s.matrix.len()))
                         })
                     })
                 },

@@ -6,14 +6,23 @@
 //! tecon torsion --section rectangle:w=1,h=2 --n 512 --method nystrom --format json
 //! tecon torsion --section limacon:a=1,c=0.5 --grading 4 --out out/cardioid
 //! tecon torsion --section my_section.toml --study
+//! tecon torsion --section tube:ro=1,ri=0.6 --tol 1e-10
 //! ```
+//!
+//! By default the resolution is chosen by error control: a starting n from
+//! the geometry, doubled until J and τ_max at n and n/2 agree to `--tol`.
+//! An unconverged result is printed with `converged: false` and a warning,
+//! and the command exits with status 2 unless `--allow-unconverged`.
 
 use crate::plot::{ColouredPath, LinePlot, Series};
 use serde_json::json;
 use std::io::Write;
 use std::path::PathBuf;
+use tecon_wavelet_bem::control::DEFAULT_N_MAX;
 use tecon_wavelet_bem::daubechies::Daubechies;
-use tecon_wavelet_bem::{LinearSolver, Method, Options, sections, solve};
+use tecon_wavelet_bem::{
+    LinearSolver, Method, Options, sections, solve, solve_to_tolerance, solve_with_estimate,
+};
 
 /// Discretisation method (CLI spelling).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,10 +48,21 @@ pub enum FormatArg {
 #[derive(clap::Args, Debug)]
 pub struct TorsionArgs {
     /// Section: circle:r=R | ellipse:a=A,b=B | rectangle:w=W,h=H | triangle:a=A |
-    /// polygon:x1,y1;x2,y2;... | regular:n=N,r=R | groove:a=A,b=B | limacon:a=A,c=C | path to a TOML file
+    /// polygon:x1,y1;x2,y2;... | regular:n=N,r=R | groove:a=A,b=B | limacon:a=A,c=C |
+    /// tube:ro=RO,ri=RI | box:w=W,h=H,t=T (or tf=TF,tw=TW) | path to a TOML file
     #[arg(long)]
     pub section: String,
-    /// Number of unknowns (a power of two for daubechies; default 256, 512 with corners)
+    /// Relative tolerance on J and τ_max (error control: n doubles until two resolutions agree)
+    #[arg(long, default_value_t = 1e-8)]
+    pub tol: f64,
+    /// Largest n the error control may use (dense solves: n = 4096 takes seconds)
+    #[arg(long, default_value_t = DEFAULT_N_MAX)]
+    pub max_n: usize,
+    /// Print an unconverged result and exit 0 (it is still flagged `converged: false`)
+    #[arg(long)]
+    pub allow_unconverged: bool,
+    /// Experts: fixed number of unknowns per boundary curve (a power of two for daubechies);
+    /// the error estimate then comes from a second solve at n/2
     #[arg(long)]
     pub n: Option<usize>,
     /// Discretisation method
@@ -63,8 +83,9 @@ pub struct TorsionArgs {
     /// Convergence study: solve at n/8, n/4, n/2, n and report the observed order
     #[arg(long)]
     pub study: bool,
-    /// Compress the wavelet-basis matrix at threshold EPS and solve by CG (daubechies only)
-    #[arg(long, value_name = "EPS")]
+    /// Removed (see docs/torsion.md): the thresholded matrix lost definiteness on polygons
+    /// and was slower than the dense solve at every n the dense solve reaches
+    #[arg(long, value_name = "EPS", hide = true)]
     pub compress: Option<f64>,
     /// Interior points "x1,y1;x2,y2;..." where u and the stresses are reported
     #[arg(long)]
@@ -114,41 +135,59 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
             args.wavelet
         )
     })?;
-    let has_corner = section.pieces.len() > 1 || !section.junctions.iter().all(|j| j.is_smooth());
     let cusp = section
-        .junctions
+        .curves()
         .iter()
+        .flat_map(|c| c.junctions.iter())
         .any(|j| j.interior_angle > 1.9 * std::f64::consts::PI || j.interior_angle < 0.1);
     let grading = args.grading.unwrap_or(if cusp { 4.0 } else { 6.0 });
-    let mut n = args.n.unwrap_or(if has_corner { 512 } else { 256 });
-    if method == Method::Daubechies && args.n.is_none() {
-        n = n.max(wavelet.min_n());
+    if args.compress.is_some() {
+        return Err(
+            "--compress was removed: the thresholded wavelet matrix lost definiteness \
+                    on polygons (CG breakdown) and was slower than the dense solve at every n \
+                    the dense solve reaches; see docs/torsion.md"
+                .into(),
+        );
     }
-    let linear = match args.compress {
-        None => LinearSolver::Dense,
-        Some(eps) if eps > 0.0 && eps < 1.0 && method == Method::Daubechies => {
-            LinearSolver::Compressed { eps, tol: 1e-13 }
-        }
-        Some(eps) => {
-            return Err(
-                format!("--compress: need 0 < EPS < 1 and --method daubechies, got {eps}").into(),
-            );
-        }
-    };
+    if !(args.tol > 0.0 && args.tol < 1.0) {
+        return Err(format!("--tol: need 0 < TOL < 1, got {}", args.tol).into());
+    }
     let opts = Options {
-        n,
+        n: args.n.unwrap_or(8),
         method,
         wavelet_order: wavelet.order,
         grading,
-        linear,
+        linear: LinearSolver::Dense,
     };
-    let sol = solve(&section, &opts)?;
-    let ms = sol.max_shear();
     let points = match &args.points {
         Some(p) => parse_points(p)?,
         None => vec![],
     };
-    let interior = sol.interior(&points);
+    // reject bad points before the (possibly long) solve
+    for (i, &p) in points.iter().enumerate() {
+        use tecon_wavelet_bem::geometry::PointLocation;
+        let where_ = match section.locate(p) {
+            PointLocation::Inside => continue,
+            PointLocation::Outside => "outside",
+            PointLocation::OnBoundary => "on the boundary of",
+        };
+        return Err(format!(
+            "--points: point {} ({}, {}) is {where_} the section",
+            i + 1,
+            p[0],
+            p[1]
+        )
+        .into());
+    }
+    let ctl = match args.n {
+        Some(_) => solve_with_estimate(&section, &opts, args.tol)?,
+        None => solve_to_tolerance(&section, &opts, args.tol, args.max_n)?,
+    };
+    let sol = &ctl.solution;
+    let n = sol.options.n;
+    let opts = sol.options;
+    let ms = ctl.max_shear;
+    let interior = sol.interior_checked(&points)?;
 
     // convergence study
     let mut study = Vec::new();
@@ -188,22 +227,30 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("--out: cannot create `{}`: {e}", dir.display()))?;
-        let samples = sol.boundary_samples((4 * n).max(1024));
+        let m = (4 * n).max(1024);
+        let samples = sol.boundary_samples(m);
         let csv = dir.join("boundary.csv");
         let mut f = std::fs::File::create(&csv)
             .map_err(|e| format!("--out: cannot write `{}`: {e}", csv.display()))?;
-        writeln!(f, "t,s,x,y,q,tau")?;
-        for s in &samples {
-            writeln!(
-                f,
-                "{:.16e},{:.16e},{:.16e},{:.16e},{:.16e},{:.16e}",
-                s.t,
-                s.s,
-                s.x[0],
-                s.x[1],
-                s.q,
-                s.q.abs()
-            )?;
+        writeln!(f, "t,s,x,y,q,tau,curve")?;
+        for k in 0..sol.curve_count() {
+            let on_k = if k == 0 {
+                samples.clone()
+            } else {
+                sol.boundary_samples_on(k, m)
+            };
+            for s in &on_k {
+                writeln!(
+                    f,
+                    "{:.16e},{:.16e},{:.16e},{:.16e},{:.16e},{:.16e},{k}",
+                    s.t,
+                    s.s,
+                    s.x[0],
+                    s.x[1],
+                    s.q,
+                    s.q.abs()
+                )?;
+            }
         }
         written.push(csv);
         let lp = LinePlot {
@@ -249,6 +296,19 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                 "wavelet": if method == Method::Daubechies { Some(format!("db{}", wavelet.order)) } else { None },
                 "grading": grading,
                 "multiplier": js(sol.multiplier),
+                "converged": ctl.converged,
+                "tolerance": ctl.tol,
+                "estimated_error": {
+                    "torsional_rigidity": js(ctl.j_error),
+                    "max_shear_stress": ctl.tau_error.map(js),
+                },
+                "levels": ctl.levels,
+                "warnings": ctl.warnings,
+                "holes": sol.holes.iter().zip(&section.holes).map(|(h, g)| json!({
+                    "stress_function": h.stress_function,
+                    "area": g.area,
+                    "centroid": g.centroid,
+                })).collect::<Vec<_>>(),
                 "area": section.area,
                 "centroid": section.centroid,
                 "polar_moment": section.polar_moment(),
@@ -294,9 +354,37 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                     );
                 }
             }
+            for (k, h) in sol.holes.iter().enumerate() {
+                println!(
+                    "hole {}             u = C = {:.15e} on its boundary (area {:.6e})",
+                    k + 1,
+                    h.stress_function,
+                    section.holes[k].area
+                );
+            }
             println!(
-                "multiplier c       {:.3e}   (exactly 0; an error indicator)",
+                "multiplier c       {:.3e}   (0 for the exact solution; small c alone does not prove accuracy)",
                 sol.multiplier
+            );
+            let tau_e = ctl
+                .tau_error
+                .map(|e| format!("{e:.1e}"))
+                .unwrap_or_else(|| "- (singular)".into());
+            println!(
+                "estimated error    J {:.1e}, τ_max {tau_e} (relative; tolerance {:.1e}; n = {} vs {})",
+                ctl.j_error,
+                ctl.tol,
+                n,
+                ctl.levels
+                    .iter()
+                    .rev()
+                    .nth(1)
+                    .map(|l| l.n.to_string())
+                    .unwrap_or_else(|| "-".into())
+            );
+            println!(
+                "converged          {}",
+                if ctl.converged { "yes" } else { "NO" }
             );
             if let Some(c) = &sol.compression {
                 println!(
@@ -325,6 +413,17 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                 println!("wrote              {}", p.display());
             }
         }
+    }
+    for w in &ctl.warnings {
+        eprintln!("warning: {w}");
+    }
+    if !ctl.converged && !args.allow_unconverged {
+        return Err(format!(
+            "the result is not converged to --tol {:.1e} (see the warning); raise --max-n, \
+             loosen --tol, or pass --allow-unconverged to accept it",
+            ctl.tol
+        )
+        .into());
     }
     Ok(())
 }

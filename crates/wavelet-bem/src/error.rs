@@ -49,6 +49,31 @@ pub enum GeometryError {
         /// junction index
         junction: usize,
     },
+    /// A hole lies outside the outer boundary.
+    #[error("hole {hole} lies outside the outer boundary")]
+    HoleOutside {
+        /// hole number (1-based)
+        hole: usize,
+    },
+    /// A hole meets the outer boundary.
+    #[error("hole {hole} touches or crosses the outer boundary near ({:.6}, {:.6})", near[0], near[1])]
+    HoleTouchesBoundary {
+        /// hole number (1-based)
+        hole: usize,
+        /// a point near the contact
+        near: [f64; 2],
+    },
+    /// Two holes overlap or touch.
+    #[error("holes {a} and {b} overlap or touch")]
+    HolesOverlap {
+        /// first hole (1-based)
+        a: usize,
+        /// second hole (1-based)
+        b: usize,
+    },
+    /// A hole was given holes of its own.
+    #[error("a hole cannot have holes of its own")]
+    NestedHoles,
     /// Too few polygon vertices.
     #[error("a polygon needs at least 3 vertices, got {0}")]
     TooFewVertices(usize),
@@ -59,7 +84,7 @@ pub enum GeometryError {
 pub enum SpecError {
     /// Unknown section kind.
     #[error(
-        "unknown section kind `{0}` (expected circle, ellipse, rectangle, triangle, polygon, regular, groove, limacon, or a file path)"
+        "unknown section kind `{0}` (expected circle, ellipse, rectangle, triangle, polygon, regular, groove, limacon, tube, box, or a file path)"
     )]
     UnknownKind(String),
     /// A required field is missing.
@@ -82,6 +107,9 @@ pub enum SpecError {
         /// why it is rejected
         reason: String,
     },
+    /// The section names a file that does not exist.
+    #[error("section file `{0}`: no such file")]
+    NoSuchFile(String),
     /// The file cannot be read.
     #[error("cannot read section file `{path}`: {source}")]
     Io {
@@ -123,6 +151,19 @@ pub enum SolveError {
     /// The linear system is (numerically) singular or the iteration failed.
     #[error("linear solve failed: {0}")]
     Linear(String),
+    /// A combination the solver does not handle.
+    #[error("not supported: {0}")]
+    Unsupported(String),
+    /// An evaluation point is not inside the section.
+    #[error("point {index} ({:.6}, {:.6}) is {where_} the section", point[0], point[1])]
+    PointOutside {
+        /// 1-based index of the point
+        index: usize,
+        /// the point
+        point: [f64; 2],
+        /// "outside" or "on the boundary of"
+        where_: &'static str,
+    },
     /// The result is not finite.
     #[error("the solution is not finite (ill-posed geometry or too few unknowns)")]
     NonFinite,

@@ -33,15 +33,18 @@ use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 
-/// The assembled Daubechies Galerkin system in the scaling basis.
+/// The assembled Daubechies Galerkin system in the scaling basis: K boundary
+/// curves with n = 2^J scaling functions each (order N = K n), curve after curve.
 pub struct GalerkinSystem {
-    /// order n
+    /// scaling functions per curve
     pub n: usize,
-    /// row-major symmetric n×n matrix A
+    /// number of curves K
+    pub curves: usize,
+    /// row-major symmetric N×N matrix A
     pub matrix: Vec<f64>,
     /// load vector F = P f
     pub load: Vec<f64>,
-    /// constraint vector e (∫ φ_{J,k})
+    /// constraint vector e (∫ φ_{J,k}) of one curve
     pub constraint: Vec<f64>,
     /// functional vector P g2 (∫ φ_{J,k} |x − x₀|²)
     pub functional: Vec<f64>,
@@ -67,26 +70,35 @@ pub fn projection_kernel(w: &Daubechies, n: usize) -> Vec<f64> {
     buf.iter().map(|v| v.re / nf).collect()
 }
 
-/// Cyclic convolution of every row of a row-major n×n matrix with `p̂` (FFT of the kernel), transposed on output.
-fn convolve_rows_transpose(m: &[f64], n: usize, phat: &[Complex64]) -> Vec<f64> {
+/// Cyclic convolution of every length-n block of every row of a row-major
+/// N×N matrix with `p̂` (FFT of the kernel), transposed on output.
+fn convolve_rows_transpose(m: &[f64], big: usize, n: usize, phat: &[Complex64]) -> Vec<f64> {
     let fwd = FftPlanner::<f64>::new().plan_fft_forward(n);
     let inv = FftPlanner::<f64>::new().plan_fft_inverse(n);
-    let mut rows = vec![0.0; n * n];
-    rows.par_chunks_mut(n).enumerate().for_each(|(a, out)| {
-        let mut buf: Vec<Complex64> = m[a * n..(a + 1) * n]
-            .iter()
-            .map(|&v| Complex64::new(v, 0.0))
-            .collect();
-        fwd.process(&mut buf);
-        for (b, ph) in buf.iter_mut().zip(phat) {
-            *b *= ph;
-        }
-        inv.process(&mut buf);
-        for (o, v) in out.iter_mut().zip(&buf) {
-            *o = v.re / n as f64;
+    let mut rows = vec![0.0; big * big];
+    rows.par_chunks_mut(big).enumerate().for_each(|(a, out)| {
+        let mut buf = vec![Complex64::new(0.0, 0.0); n];
+        for (blk, o) in out.chunks_mut(n).enumerate() {
+            let src = &m[a * big + blk * n..a * big + (blk + 1) * n];
+            for (b, &v) in buf.iter_mut().zip(src) {
+                *b = Complex64::new(v, 0.0);
+            }
+            fwd.process(&mut buf);
+            for (b, ph) in buf.iter_mut().zip(phat) {
+                *b *= ph;
+            }
+            inv.process(&mut buf);
+            for (oo, v) in o.iter_mut().zip(&buf) {
+                *oo = v.re / n as f64;
+            }
         }
     });
-    kernels::transpose(&rows, n)
+    kernels::transpose(&rows, big)
+}
+
+/// Block-wise [`convolve`] of a vector of K blocks of length n.
+fn convolve_blocks(v: &[f64], n: usize, phat: &[Complex64]) -> Vec<f64> {
+    v.chunks(n).flat_map(|b| convolve(b, phat)).collect()
 }
 
 /// (P v)_i = Σ_a p(i − a) v_a by FFT.
@@ -101,10 +113,11 @@ fn convolve(v: &[f64], phat: &[Complex64]) -> Vec<f64> {
     buf.iter().map(|z| z.re / n as f64).collect()
 }
 
-/// Assembles the Daubechies Galerkin system.
+/// Assembles the Daubechies Galerkin system for the curves of `section`
+/// (outer boundary, then holes) with their parametrisations `params`.
 pub fn assemble(
     section: &Section,
-    param: &Parametrisation,
+    params: &[Parametrisation],
     n: usize,
     w: Daubechies,
 ) -> Result<GalerkinSystem, SolveError> {
@@ -115,28 +128,40 @@ pub fn assemble(
         });
     }
     let x0 = section.centroid;
-    let nodes = param.nodes(section, n);
-    let l = kernels::log_remainder(&nodes);
-    let f = kernels::rhs(&nodes, x0);
+    let curves = section.curves();
+    let nodes: Vec<_> = curves
+        .iter()
+        .zip(params)
+        .flat_map(|(c, p)| p.nodes(c, n))
+        .collect();
+    let big = nodes.len();
+    let l = kernels::log_remainder_blocks(&nodes, n);
+    let f = kernels::rhs_blocks(&nodes, n, x0);
     let g2 = kernels::radius_sq(&nodes, x0);
     let p = projection_kernel(&w, n);
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut phat);
-    let t = convolve_rows_transpose(&l, n, &phat);
-    let al = convolve_rows_transpose(&t, n, &phat);
+    let t = convolve_rows_transpose(&l, big, n, &phat);
+    let al = convolve_rows_transpose(&t, big, n, &phat);
     let c = w.log_circulant(n);
-    // A = −(C + P L Pᵀ)/2π (symmetric up to rounding; L is symmetric)
+    // A = −(C + P L Pᵀ)/2π (symmetric up to rounding; L is symmetric); C on diagonal blocks
     let mut a = al;
-    a.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
+    a.par_chunks_mut(big).enumerate().for_each(|(i, row)| {
         for (k, v) in row.iter_mut().enumerate() {
-            *v = -(c[(i + n - k) % n] + *v) / (2.0 * PI);
+            let ck = if i / n == k / n {
+                c[(i + n - k % n) % n]
+            } else {
+                0.0
+            };
+            *v = -(ck + *v) / (2.0 * PI);
         }
     });
-    let load = convolve(&f, &phat);
-    let functional = convolve(&g2, &phat);
+    let load = convolve_blocks(&f, n, &phat);
+    let functional = convolve_blocks(&g2, n, &phat);
     let constraint = vec![1.0 / (n as f64).sqrt(); n];
     Ok(GalerkinSystem {
         n,
+        curves: curves.len(),
         matrix: a,
         load,
         constraint,
@@ -199,28 +224,36 @@ fn operator_error(n: usize, a: &[f64], b: &crate::linalg::Csr) -> f64 {
 /// Solves with the options' linear solver and returns the raw solution.
 pub(crate) fn solve(
     section: &Section,
-    param: &Parametrisation,
+    params: &[Parametrisation],
     opts: &Options,
 ) -> Result<RawSolution, SolveError> {
     let w = Daubechies::new(opts.wavelet_order)
         .ok_or_else(|| SolveError::BadWavelet(format!("db{}", opts.wavelet_order)))?;
     let n = opts.n;
-    let sys = assemble(section, param, n, w)?;
+    let sys = assemble(section, params, n, w)?;
+    let kc = sys.curves;
+    let big = kc * n;
     let (alpha, c, compression) = match opts.linear {
         LinearSolver::Dense => {
-            let nn = n + 1;
+            let nn = big + kc;
             let mut m = vec![0.0; nn * nn];
-            for i in 0..n {
-                m[i * nn..i * nn + n].copy_from_slice(&sys.matrix[i * n..(i + 1) * n]);
-                m[i * nn + n] = sys.constraint[i];
-                m[n * nn + i] = sys.constraint[i];
+            for i in 0..big {
+                m[i * nn..i * nn + big].copy_from_slice(&sys.matrix[i * big..(i + 1) * big]);
+                let k = i / n;
+                m[i * nn + big + k] = sys.constraint[i % n];
+                m[(big + k) * nn + i] = sys.constraint[i % n];
             }
             let mut rhs = sys.load.clone();
-            rhs.push(0.0);
+            rhs.resize(nn, 0.0);
             let sol = dense_symmetric_solve(nn, &m, &rhs)?;
-            (sol[..n].to_vec(), sol[n], None)
+            (sol[..big].to_vec(), sol[big..].to_vec(), None)
         }
         LinearSolver::Compressed { eps, tol } => {
+            if kc > 1 {
+                return Err(SolveError::Unsupported(
+                    "the compressed solver handles simply connected sections only".into(),
+                ));
+            }
             let j0 = coarse_level(&sys.wavelet);
             let aw = to_wavelet_basis(&sys, j0);
             let csr = threshold(n, &aw, eps);
@@ -242,24 +275,33 @@ pub(crate) fn solve(
                 iterations: iters,
                 residual: res,
             };
-            (alpha, c, Some(rep))
+            (alpha, vec![c], Some(rep))
         }
     };
     let j_integral: f64 = alpha.iter().zip(&sys.functional).map(|(a, b)| a * b).sum();
-    // density: μ̂(r) = 2^{−J/2} φ̂(r/n) α̂(r), |r| ≤ 3n/8
-    let mut ah: Vec<Complex64> = alpha.iter().map(|&v| Complex64::new(v, 0.0)).collect();
-    FftPlanner::new().plan_fft_forward(n).process(&mut ah);
+    // density per curve: μ̂(r) = 2^{−J/2} φ̂(r/n) α̂(r), |r| ≤ 3n/8
     let rmax = 3 * n / 8;
     let s = 1.0 / (n as f64).sqrt();
-    let coef: Vec<Complex64> = (-(rmax as i64)..=rmax as i64)
-        .map(|r| s * sys.wavelet.phi_hat(r as f64 / n as f64) * ah[r.rem_euclid(n as i64) as usize])
+    let densities = alpha
+        .chunks(n)
+        .map(|blk| {
+            let mut ah: Vec<Complex64> = blk.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+            FftPlanner::new().plan_fft_forward(n).process(&mut ah);
+            let coef: Vec<Complex64> = (-(rmax as i64)..=rmax as i64)
+                .map(|r| {
+                    s * sys.wavelet.phi_hat(r as f64 / n as f64)
+                        * ah[r.rem_euclid(n as i64) as usize]
+                })
+                .collect();
+            FourierDensity {
+                coef,
+                max_freq: rmax,
+            }
+        })
         .collect();
     Ok(RawSolution {
-        density: FourierDensity {
-            coef,
-            max_freq: rmax,
-        },
-        multiplier: c,
+        densities,
+        multipliers: c,
         j_integral,
         compression,
     })

@@ -7,6 +7,7 @@
 //! position exactly (see [`crate::grading`]).
 
 use crate::error::GeometryError;
+use crate::polyline::{first_crossing, polyline, polyline_distance, polylines_cross, winding};
 use crate::quadrature::composite_gauss_01;
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
@@ -398,6 +399,17 @@ impl Junction {
     }
 }
 
+/// Where a point lies relative to a section.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointLocation {
+    /// strictly inside Ω
+    Inside,
+    /// on Γ (to 1e-12 of the section's size)
+    OnBoundary,
+    /// outside Ω (or inside a hole)
+    Outside,
+}
+
 /// A validated, closed, counter-clockwise section boundary.
 #[derive(Clone, Debug)]
 pub struct Section {
@@ -413,35 +425,15 @@ pub struct Section {
     pub area: f64,
     /// centroid x₀
     pub centroid: V2,
+    /// hole boundaries, each traversed clockwise (the section Ω on its left, so
+    /// that normals point out of Ω into the hole); their `area` and `centroid`
+    /// are those of the hole, while `area` and `centroid` above are those of Ω
+    pub holes: Vec<Section>,
 }
 
 fn unit(v: V2) -> V2 {
     let n = v[0].hypot(v[1]);
     [v[0] / n, v[1] / n]
-}
-
-fn seg_intersect(p1: V2, p2: V2, q1: V2, q2: V2) -> bool {
-    let cross = |o: V2, a: V2, b: V2| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let on_seg = |a: V2, b: V2, p: V2| {
-        p[0] >= a[0].min(b[0])
-            && p[0] <= a[0].max(b[0])
-            && p[1] >= a[1].min(b[1])
-            && p[1] <= a[1].max(b[1])
-    };
-    let d1 = cross(q1, q2, p1);
-    let d2 = cross(q1, q2, p2);
-    let d3 = cross(p1, p2, q1);
-    let d4 = cross(p1, p2, q2);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
-        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
-    {
-        return true;
-    }
-    // touching or collinear overlap (non-adjacent polyline segments must not meet at all)
-    (d1 == 0.0 && on_seg(q1, q2, p1))
-        || (d2 == 0.0 && on_seg(q1, q2, p2))
-        || (d3 == 0.0 && on_seg(p1, p2, q1))
-        || (d4 == 0.0 && on_seg(p1, p2, q2))
 }
 
 impl Section {
@@ -525,24 +517,11 @@ impl Section {
                 return Err(GeometryError::NotClosed { piece: k, gap });
             }
         }
-        // self-intersection on a fine polyline
+        // self-intersection on a polyline (segments exact, curves subdivided), grid-accelerated
         let per = if m > 200 { 8 } else { 48 };
-        let mut poly: Vec<V2> = Vec::with_capacity(m * per);
-        for p in &pieces {
-            for i in 0..per {
-                poly.push(p.point(i as f64 / per as f64)[0]);
-            }
-        }
-        let np = poly.len();
-        for i in 0..np {
-            for j in i + 2..np {
-                if i == 0 && j == np - 1 {
-                    continue;
-                }
-                if seg_intersect(poly[i], poly[(i + 1) % np], poly[j], poly[(j + 1) % np]) {
-                    return Err(GeometryError::SelfIntersecting { near: poly[i] });
-                }
-            }
+        let poly = polyline(&pieces, per);
+        if let Some(near) = first_crossing(&poly) {
+            return Err(GeometryError::SelfIntersecting { near });
         }
         let mut sec = Section {
             name: name.into(),
@@ -551,6 +530,7 @@ impl Section {
             notes: vec![],
             area: 0.0,
             centroid: [0.0; 2],
+            holes: vec![],
         };
         let area = sec.signed_area();
         if area.abs() < 1e-12 * total * total {
@@ -573,8 +553,100 @@ impl Section {
         Ok(sec)
     }
 
+    /// ∮ over the outer chain only.
     fn integrate(&self, f: &dyn Fn(V2, V2) -> f64) -> f64 {
         self.pieces.iter().map(|p| p.integrate(f)).sum()
+    }
+
+    /// ∮ over every boundary curve of Ω (holes clockwise).
+    fn integrate_all(&self, f: &dyn Fn(V2, V2) -> f64) -> f64 {
+        self.integrate(f) + self.holes.iter().map(|h| h.integrate(f)).sum::<f64>()
+    }
+
+    /// The boundary curves: the outer chain (this section) first, then the holes.
+    pub fn curves(&self) -> Vec<&Section> {
+        std::iter::once(self).chain(self.holes.iter()).collect()
+    }
+
+    /// Total boundary length, holes included.
+    pub fn total_perimeter(&self) -> f64 {
+        self.perimeter() + self.holes.iter().map(|h| h.perimeter()).sum::<f64>()
+    }
+
+    /// Whether `p` lies inside Ω (strictly, at a distance above `1e-12`
+    /// times the size of the section). Curved pieces are judged on an
+    /// inscribed polyline of 4096 chords per piece, so points within about
+    /// 3e-7 of the radius of curvature of a convex curved boundary may be
+    /// called outside (never an outside point inside).
+    pub fn locate(&self, p: V2) -> PointLocation {
+        let tol = 1e-12 * self.radius().max(f64::MIN_POSITIVE);
+        let mut inside = false;
+        let mut dist = f64::INFINITY;
+        for (k, c) in self.curves().into_iter().enumerate() {
+            let poly = polyline(&c.pieces, 4096);
+            dist = dist.min(polyline_distance(&poly, p));
+            let w = winding(&poly, p) != 0;
+            if k == 0 {
+                inside = w;
+            } else if w {
+                inside = false;
+            }
+        }
+        if dist <= tol {
+            PointLocation::OnBoundary
+        } else if inside {
+            PointLocation::Inside
+        } else {
+            PointLocation::Outside
+        }
+    }
+
+    /// A section with holes. `outer` and every hole are simply connected
+    /// sections (either orientation given, validated on their own); holes
+    /// must lie inside `outer`, clear of its boundary and of each other.
+    /// Each hole is stored clockwise (Ω on its left); `area`, `centroid`
+    /// and the moments become those of Ω.
+    pub fn with_holes(outer: Section, holes: Vec<Section>) -> Result<Section, GeometryError> {
+        if !outer.holes.is_empty() || holes.iter().any(|h| !h.holes.is_empty()) {
+            return Err(GeometryError::NestedHoles);
+        }
+        let outer_poly = polyline(&outer.pieces, 48);
+        let polys: Vec<Vec<V2>> = holes.iter().map(|h| polyline(&h.pieces, 48)).collect();
+        for (k, hp) in polys.iter().enumerate() {
+            if let Some(near) = polylines_cross(&outer_poly, hp) {
+                return Err(GeometryError::HoleTouchesBoundary { hole: k + 1, near });
+            }
+            if winding(&outer_poly, hp[0]) == 0 {
+                return Err(GeometryError::HoleOutside { hole: k + 1 });
+            }
+            for (l, lp) in polys.iter().enumerate().take(k) {
+                if polylines_cross(lp, hp).is_some()
+                    || winding(lp, hp[0]) != 0
+                    || winding(hp, lp[0]) != 0
+                {
+                    return Err(GeometryError::HolesOverlap { a: l + 1, b: k + 1 });
+                }
+            }
+        }
+        let mut sec = outer;
+        let (mut a, mut mx, mut my) = (
+            sec.area,
+            sec.area * sec.centroid[0],
+            sec.area * sec.centroid[1],
+        );
+        for h in holes {
+            a -= h.area;
+            mx -= h.area * h.centroid[0];
+            my -= h.area * h.centroid[1];
+            let mut cw = h.clone();
+            cw.pieces = h.pieces.iter().rev().map(|p| p.reversed()).collect();
+            cw.junctions = cw.compute_junctions();
+            cw.notes.clear();
+            sec.holes.push(cw);
+        }
+        sec.area = a;
+        sec.centroid = [mx / a, my / a];
+        Ok(sec)
     }
 
     fn signed_area(&self) -> f64 {
@@ -591,7 +663,7 @@ impl Section {
     /// I_p = ¼ ∮ |x − x₀|² (x − x₀)·n ds about the centroid (= polar moment of area).
     pub fn polar_moment(&self) -> f64 {
         let c = self.centroid;
-        0.25 * self.integrate(&|x, d| {
+        0.25 * self.integrate_all(&|x, d| {
             let r = [x[0] - c[0], x[1] - c[1]];
             (r[0] * r[0] + r[1] * r[1]) * (r[0] * d[1] - r[1] * d[0])
         })
@@ -653,7 +725,7 @@ impl Section {
 
     /// True when some corner or cusp makes τ unbounded.
     pub fn is_singular(&self) -> bool {
-        self.junctions.iter().any(|j| j.is_singular())
+        self.junctions.iter().any(|j| j.is_singular()) || self.holes.iter().any(|h| h.is_singular())
     }
 
     /// Copy translated by `d`.

@@ -39,22 +39,33 @@ pub fn transpose<T: Copy + Default + Send + Sync>(m: &[T], n: usize) -> Vec<T> {
     out
 }
 
-/// Row-major n×n matrix of the smooth log remainder L at the nodes.
+/// Row-major n×n matrix of the smooth log remainder L at the nodes of one curve.
 pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
-    let n = nodes.len();
-    let mut out = vec![0.0; n * n];
+    log_remainder_blocks(nodes, nodes.len())
+}
+
+/// Row-major N×N kernel matrix for K curves of `n` nodes each (N = K n,
+/// curve after curve): within a curve the smooth log remainder L, between
+/// two curves the full (smooth) kernel ln|x − y|.
+pub fn log_remainder_blocks(nodes: &[BPoint], n: usize) -> Vec<f64> {
+    let big = nodes.len();
+    let mut out = vec![0.0; big * big];
     let sines: Vec<f64> = (0..n)
         .map(|k| (2.0 * (PI * k as f64 / n as f64).sin()).abs().ln())
         .collect();
-    out.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
+    out.par_chunks_mut(big).enumerate().for_each(|(i, row)| {
         let xi = &nodes[i];
         for (j, r) in row.iter_mut().enumerate() {
             if i == j {
                 *r = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
             } else {
                 let d = diff(xi, &nodes[j]);
-                let k = i.abs_diff(j);
-                *r = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln() - sines[k];
+                let lg = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln();
+                *r = if i / n == j / n {
+                    lg - sines[i.abs_diff(j)]
+                } else {
+                    lg
+                };
             }
         }
     });
@@ -63,9 +74,14 @@ pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
 
 /// Right-hand side f(t_a) = ((½I + K) g)(x_a) in subtracted form, trapezoidal rule.
 pub fn rhs(nodes: &[BPoint], x0: [f64; 2]) -> Vec<f64> {
-    let n = nodes.len();
+    rhs_blocks(nodes, nodes.len(), x0)
+}
+
+/// [`rhs`] for K curves of `n` nodes each: the integral runs over every
+/// curve of Γ (∮_Γ ∂w/∂n_y ds_y = −½ on Γ holds for the whole boundary of Ω).
+pub fn rhs_blocks(nodes: &[BPoint], n: usize, x0: [f64; 2]) -> Vec<f64> {
     let h = 1.0 / n as f64;
-    (0..n)
+    (0..nodes.len())
         .into_par_iter()
         .map(|i| {
             let xi = &nodes[i];

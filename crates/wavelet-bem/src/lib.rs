@@ -51,6 +51,7 @@
 //! | ε | compression threshold relative to max\|a_ij\| |
 
 pub mod analytical;
+pub mod control;
 pub mod daubechies;
 pub mod density;
 pub mod error;
@@ -60,11 +61,13 @@ pub mod grading;
 pub mod kernels;
 pub mod linalg;
 pub mod nystrom;
+pub mod polyline;
 pub mod quadrature;
 pub mod sections;
 pub mod shannon;
 pub mod solve;
 
+pub use control::{Controlled, solve_to_tolerance, solve_with_estimate};
 pub use error::{GeometryError, SolveError, SpecError};
 pub use geometry::{Piece, Section};
 pub use solve::{LinearSolver, Method, Options, TorsionSolution, solve};

@@ -33,45 +33,69 @@ pub fn kress_weights(n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Assembled Nyström system (row-major (n+1)², right-hand side, J weights).
+/// Assembled Nyström system (row-major, right-hand side).
 pub struct NystromSystem {
-    /// row-major augmented matrix of order n + 1
+    /// row-major augmented matrix of order N + K (N = K n nodes, K curves)
     pub matrix: Vec<f64>,
-    /// right-hand side (f, 0)
+    /// right-hand side (f, 0, …, 0)
     pub rhs: Vec<f64>,
 }
 
-/// Assembles the augmented Nyström system on `nodes`.
+/// Assembles the augmented Nyström system on the nodes of one curve.
 pub fn assemble(nodes: &[BPoint], x0: [f64; 2]) -> NystromSystem {
-    let n = nodes.len();
-    let l = kernels::log_remainder(nodes);
+    assemble_blocks(nodes, nodes.len(), x0)
+}
+
+/// Assembles the augmented system for K curves of `n` nodes each: one
+/// multiplier c_k per curve (the constant the single layer takes on curve k)
+/// and one constraint ∮_{Γ_k} q_v ds = 0 per curve (single-valued warping).
+pub fn assemble_blocks(nodes: &[BPoint], n: usize, x0: [f64; 2]) -> NystromSystem {
+    let big = nodes.len();
+    let kc = big / n;
+    let l = kernels::log_remainder_blocks(nodes, n);
     let r = kress_weights(n);
-    let f = kernels::rhs(nodes, x0);
-    let nn = n + 1;
+    let f = kernels::rhs_blocks(nodes, n, x0);
+    let nn = big + kc;
     let mut a = vec![0.0; nn * nn];
     let inv = 1.0 / n as f64;
     a.par_chunks_mut(nn).enumerate().for_each(|(i, row)| {
-        if i < n {
-            for j in 0..n {
-                let k = (i + n - j) % n;
-                row[j] = -(r[k] + inv * l[i * n + j]) / (2.0 * PI);
+        if i < big {
+            for j in 0..big {
+                let w = if i / n == j / n {
+                    r[(i + n - j) % n]
+                } else {
+                    0.0
+                };
+                row[j] = -(w + inv * l[i * big + j]) / (2.0 * PI);
             }
-            row[n] = 1.0;
+            row[big + i / n] = 1.0;
         } else {
-            for v in row.iter_mut().take(n) {
+            let k = i - big;
+            for v in row.iter_mut().skip(k * n).take(n) {
                 *v = inv;
             }
         }
     });
     let mut rhs = f;
-    rhs.push(0.0);
+    rhs.resize(nn, 0.0);
     NystromSystem { matrix: a, rhs }
 }
 
-/// Solves for (μ_j, c).
+/// Solves for (μ_j, c) on one curve.
 pub fn solve(nodes: &[BPoint], x0: [f64; 2]) -> Result<(Vec<f64>, f64), SolveError> {
-    let n = nodes.len();
-    let sys = assemble(nodes, x0);
-    let sol = dense_lu_solve(n + 1, &sys.matrix, &sys.rhs)?;
-    Ok((sol[..n].to_vec(), sol[n]))
+    let (mu, c) = solve_blocks(nodes, nodes.len(), x0)?;
+    Ok((mu, c[0]))
+}
+
+/// Solves for (μ_j, c_k) on K curves of `n` nodes each.
+pub fn solve_blocks(
+    nodes: &[BPoint],
+    n: usize,
+    x0: [f64; 2],
+) -> Result<(Vec<f64>, Vec<f64>), SolveError> {
+    let big = nodes.len();
+    let sys = assemble_blocks(nodes, n, x0);
+    let nn = sys.rhs.len();
+    let sol = dense_lu_solve(nn, &sys.matrix, &sys.rhs)?;
+    Ok((sol[..big].to_vec(), sol[big..].to_vec()))
 }

@@ -161,6 +161,12 @@ pub(crate) fn solve(
     param: &Parametrisation,
     opts: &Options,
 ) -> Result<RawSolution, SolveError> {
+    if !section.holes.is_empty() {
+        return Err(SolveError::Unsupported(
+            "the Shannon method handles simply connected sections only (use daubechies or nystrom)"
+                .into(),
+        ));
+    }
     let n = opts.n;
     let sys = assemble(section, param, n)?;
     let dim = n - 1;
@@ -176,11 +182,11 @@ pub(crate) fn solve(
         }
     }
     Ok(RawSolution {
-        density: FourierDensity {
+        densities: vec![FourierDensity {
             coef,
             max_freq: rmax,
-        },
-        multiplier: sol[dim],
+        }],
+        multipliers: vec![sol[dim]],
         j_integral,
         compression: None,
     })

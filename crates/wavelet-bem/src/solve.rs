@@ -4,7 +4,7 @@
 
 use crate::density::FourierDensity;
 use crate::error::SolveError;
-use crate::geometry::{Section, V2};
+use crate::geometry::{PointLocation, Section, V2};
 use crate::grading::{BPoint, Parametrisation};
 use crate::{galerkin, kernels, nystrom, shannon};
 use rayon::prelude::*;
@@ -150,12 +150,26 @@ pub struct TorsionSolution {
     pub compression: Option<CompressionReport>,
     /// centroid x₀ used by the particular solution
     pub centroid: V2,
+    /// the solution on each hole boundary (same order as `section.holes`)
+    pub holes: Vec<HoleSolution>,
 }
 
-/// Raw output of a discretisation: density, multiplier and ∫ g2 μ dt.
-pub(crate) struct RawSolution {
+/// The solution on one hole boundary.
+#[derive(Clone, Debug)]
+pub struct HoleSolution {
+    /// its graded parametrisation
+    pub param: Parametrisation,
+    /// density μ(t) = q_v |x′| on it
     pub density: FourierDensity,
-    pub multiplier: f64,
+    /// the constant value C_k of the Prandtl function u on it (and in the hole)
+    pub stress_function: f64,
+}
+
+/// Raw output of a discretisation: densities and multipliers per curve
+/// (outer first) and Σ ∫ g2 μ dt.
+pub(crate) struct RawSolution {
+    pub densities: Vec<FourierDensity>,
+    pub multipliers: Vec<f64>,
     pub j_integral: f64,
     pub compression: Option<CompressionReport>,
 }
@@ -172,7 +186,11 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
             reason: "need 8 ≤ n ≤ 8192 (dense matrices)".into(),
         });
     }
-    let param = Parametrisation::new(section, opts.grading);
+    let curves = section.curves();
+    let params: Vec<Parametrisation> = curves
+        .iter()
+        .map(|c| Parametrisation::new(c, opts.grading))
+        .collect();
     let x0 = section.centroid;
     let raw = match opts.method {
         Method::Nystrom => {
@@ -182,42 +200,81 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
                     reason: "Nyström needs an even n".into(),
                 });
             }
-            let nodes = param.nodes(section, opts.n);
-            let (mu, c) = nystrom::solve(&nodes, x0)?;
+            let nodes: Vec<BPoint> = curves
+                .iter()
+                .zip(&params)
+                .flat_map(|(c, p)| p.nodes(c, opts.n))
+                .collect();
+            let (mu, c) = nystrom::solve_blocks(&nodes, opts.n, x0)?;
             let g2 = kernels::radius_sq(&nodes, x0);
             let ji = mu.iter().zip(&g2).map(|(a, b)| a * b).sum::<f64>() / opts.n as f64;
             RawSolution {
-                density: FourierDensity::from_nodes(&mu),
-                multiplier: c,
+                densities: mu.chunks(opts.n).map(FourierDensity::from_nodes).collect(),
+                multipliers: c,
                 j_integral: ji,
                 compression: None,
             }
         }
-        Method::Daubechies => galerkin::solve(section, &param, opts)?,
-        Method::Shannon => shannon::solve(section, &param, opts)?,
+        Method::Daubechies => galerkin::solve(section, &params, opts)?,
+        Method::Shannon => shannon::solve(section, &params[0], opts)?,
     };
     let ip = section.polar_moment();
     let j = ip - 0.5 * raw.j_integral;
-    if !j.is_finite() || !raw.multiplier.is_finite() {
+    if !j.is_finite() || raw.multipliers.iter().any(|c| !c.is_finite()) {
         return Err(SolveError::NonFinite);
     }
+    let mut params = params.into_iter();
+    let mut dens = raw.densities.into_iter();
+    let param = params.next().ok_or(SolveError::NonFinite)?;
+    let density = dens.next().ok_or(SolveError::NonFinite)?;
+    let holes = params
+        .zip(dens)
+        .zip(raw.multipliers.iter().skip(1))
+        .map(|((param, density), &c)| HoleSolution {
+            param,
+            density,
+            stress_function: -c,
+        })
+        .collect();
     Ok(TorsionSolution {
         section: section.clone(),
         param,
         options: *opts,
         torsional_rigidity: j,
-        multiplier: raw.multiplier,
-        density: raw.density,
+        multiplier: raw.multipliers[0],
+        density,
         compression: raw.compression,
         centroid: x0,
+        holes,
     })
 }
 
 impl TorsionSolution {
-    /// q = ∂u/∂n at boundary parameter t.
+    /// Number of boundary curves (1 + holes).
+    pub fn curve_count(&self) -> usize {
+        1 + self.holes.len()
+    }
+
+    /// Curve k (0: outer), its parametrisation and density.
+    fn curve(&self, k: usize) -> (&Section, &Parametrisation, &FourierDensity) {
+        if k == 0 {
+            (&self.section, &self.param, &self.density)
+        } else {
+            let h = &self.holes[k - 1];
+            (&self.section.holes[k - 1], &h.param, &h.density)
+        }
+    }
+
+    /// q = ∂u/∂n at boundary parameter t of the outer boundary.
     pub fn flux_at(&self, t: f64) -> (BPoint, f64) {
-        let p = self.param.eval(&self.section, t);
-        let mu = self.density.eval(t);
+        self.flux_on(0, t)
+    }
+
+    /// q = ∂u/∂n (n out of Ω) at parameter t of curve k (0: outer, k ≥ 1: hole k).
+    pub fn flux_on(&self, k: usize, t: f64) -> (BPoint, f64) {
+        let (sec, param, dens) = self.curve(k);
+        let p = param.eval(sec, t);
+        let mu = dens.eval(t);
         let x = p.x();
         let nrm = p.normal();
         let qv = mu / p.speed();
@@ -225,22 +282,28 @@ impl TorsionSolution {
         (p, q)
     }
 
-    /// Whether t lies in a graded corner cluster where μ/|x′| is 0/0 and
-    /// must not be trusted (|dw/ds| < 0.1 next to a corner, < 1e-3 next to a
-    /// tangent-continuous junction).
+    /// Whether t lies in a graded corner cluster of the outer boundary.
     pub fn in_cluster(&self, t: f64) -> bool {
-        let (k, s) = self.param.local(t);
-        let Some(p) = self.param.grading[k] else {
+        self.in_cluster_on(0, t)
+    }
+
+    /// Whether t lies in a graded corner cluster of curve k where μ/|x′| is
+    /// 0/0 and must not be trusted (|dw/ds| < 0.1 next to a corner, < 1e-3
+    /// next to a tangent-continuous junction).
+    pub fn in_cluster_on(&self, k: usize, t: f64) -> bool {
+        let (sec, param, _) = self.curve(k);
+        let (pk, s) = param.local(t);
+        let Some(p) = param.grading[pk] else {
             return false;
         };
-        let m = self.section.pieces.len();
+        let m = sec.pieces.len();
         let (sig, junc) = if s <= 0.5 {
-            (s, k)
+            (s, pk)
         } else {
-            (1.0 - s, (k + 1) % m)
+            (1.0 - s, (pk + 1) % m)
         };
         let (_, dw, _) = crate::grading::kress(sig, p);
-        let limit = if self.section.junctions[junc].is_smooth() {
+        let limit = if sec.junctions[junc].is_smooth() {
             1e-3
         } else {
             0.1
@@ -248,52 +311,59 @@ impl TorsionSolution {
         dw < limit
     }
 
-    /// |q| sampled at `m` equally spaced parameters with arc length, graded clusters skipped.
+    /// |q| on the outer boundary, see [`TorsionSolution::boundary_samples_on`].
     pub fn boundary_samples(&self, m: usize) -> Vec<BoundarySample> {
+        self.boundary_samples_on(0, m)
+    }
+
+    /// q sampled at `m` equally spaced parameters of curve k with arc length,
+    /// graded clusters skipped.
+    pub fn boundary_samples_on(&self, k: usize, m: usize) -> Vec<BoundarySample> {
+        let (sec, param, dens) = self.curve(k);
         let ts: Vec<f64> = (0..m).map(|k| (k as f64 + 0.5) / m as f64).collect();
-        let mu = self.density.sample(m, 0.5);
-        let pts: Vec<BPoint> = ts
-            .par_iter()
-            .map(|&t| self.param.eval(&self.section, t))
-            .collect();
+        let mu = dens.sample(m, 0.5);
+        let pts: Vec<BPoint> = ts.par_iter().map(|&t| param.eval(sec, t)).collect();
         // arc length by the trapezoidal rule on the same grid (exact spectrally for smooth |x′|)
         let mut s = 0.0;
         let mut out = Vec::with_capacity(m);
-        for k in 0..m {
-            if k > 0 {
-                s += 0.5 * (pts[k - 1].speed() + pts[k].speed()) / m as f64;
+        for j in 0..m {
+            if j > 0 {
+                s += 0.5 * (pts[j - 1].speed() + pts[j].speed()) / m as f64;
             } else {
                 s = 0.5 * pts[0].speed() / m as f64;
             }
-            if self.in_cluster(ts[k]) {
+            if self.in_cluster_on(k, ts[j]) {
                 continue;
             }
-            let x = pts[k].x();
-            let nrm = pts[k].normal();
-            let q = mu[k] / pts[k].speed()
+            let x = pts[j].x();
+            let nrm = pts[j].normal();
+            let q = mu[j] / pts[j].speed()
                 - ((x[0] - self.centroid[0]) * nrm[0] + (x[1] - self.centroid[1]) * nrm[1]);
-            out.push(BoundarySample { t: ts[k], s, x, q });
+            out.push(BoundarySample { t: ts[j], s, x, q });
         }
         out
     }
 
-    /// τ_max = max |q| on the interpolant (graded clusters excluded), refined by
-    /// golden-section search; singular corners and cusps reported as such.
+    /// τ_max = max |q| over every boundary curve on the interpolant (graded
+    /// clusters excluded), refined by golden-section search; singular corners
+    /// and cusps reported as such.
     pub fn max_shear(&self) -> MaxShear {
         let m = (8 * self.options.n).max(2048);
-        let samples = self.boundary_samples(m);
-        let mut best = (0.0f64, 0.5, [0.0, 0.0]);
-        for s in &samples {
-            if s.q.abs() > best.0 {
-                best = (s.q.abs(), s.t, s.x);
+        let mut best = (0.0f64, 0.5, [0.0, 0.0], 0usize);
+        for k in 0..self.curve_count() {
+            for s in &self.boundary_samples_on(k, m) {
+                if s.q.abs() > best.0 {
+                    best = (s.q.abs(), s.t, s.x, k);
+                }
             }
         }
+        let kc = best.3;
         // golden section on [t − 1/m, t + 1/m]
         let f = |t: f64| -> f64 {
-            if self.in_cluster(t) {
+            if self.in_cluster_on(kc, t) {
                 0.0
             } else {
-                self.flux_at(t).1.abs()
+                self.flux_on(kc, t).1.abs()
             }
         };
         let (mut a, mut b) = (best.1 - 1.0 / m as f64, best.1 + 1.0 / m as f64);
@@ -319,12 +389,14 @@ impl TorsionSolution {
         let tm = 0.5 * (a + b);
         let vm = f(tm);
         if vm > best.0 {
-            best = (vm, tm, self.param.eval(&self.section, tm).x());
+            let (sec, param, _) = self.curve(kc);
+            best = (vm, tm, param.eval(sec, tm).x(), kc);
         }
         let singular_at = self
             .section
-            .junctions
+            .curves()
             .iter()
+            .flat_map(|c| c.junctions.iter())
             .find(|j| j.is_singular())
             .map(|j| j.point);
         match singular_at {
@@ -345,54 +417,131 @@ impl TorsionSolution {
         }
     }
 
+    /// u and the stresses at interior points, each checked to lie inside Ω
+    /// (a point outside, in a hole or on Γ is an error naming it).
+    pub fn interior_checked(&self, points: &[V2]) -> Result<Vec<InteriorValue>, SolveError> {
+        for (i, &p) in points.iter().enumerate() {
+            let where_ = match self.section.locate(p) {
+                PointLocation::Inside => continue,
+                PointLocation::Outside => "outside",
+                PointLocation::OnBoundary => "on the boundary of",
+            };
+            return Err(SolveError::PointOutside {
+                index: i + 1,
+                point: p,
+                where_,
+            });
+        }
+        Ok(self.interior(points))
+    }
+
     /// u and the stresses at interior points by the representation formula
+    /// over every boundary curve,
     /// u = g(x) − |x − x₀|²/2 + ∮ w q_v ds − ∮ (g(y) − g(x)) ∂w/∂n_y ds
-    /// (trapezoidal rule on 4n graded nodes; accurate away from Γ, degrading
-    /// within about one node spacing of it).
+    /// (the hole constants drop out: ∮_{Γ_k} ∂w/∂n_y = 0 outside hole k).
+    ///
+    /// Close evaluation: the trapezoidal rule on m nodes per curve is
+    /// accurate to about exp(−2π d/h) for a point at distance d from Γ and
+    /// node spacing h = max|x′|/m, so m is chosen per point with
+    /// h ≤ d/6 (at least 4n, at most 2²²; the density is a trigonometric
+    /// polynomial, sampled exactly on any grid).
     pub fn interior(&self, points: &[V2]) -> Vec<InteriorValue> {
-        let m = 4 * self.options.n;
-        let mu = self.density.sample(m, 0.5);
-        let nodes: Vec<BPoint> = (0..m)
-            .map(|k| self.param.eval(&self.section, (k as f64 + 0.5) / m as f64))
+        let n = self.options.n;
+        let kc = self.curve_count();
+        // largest parameter speed over all curves
+        let probe = (4 * n).max(1024);
+        let smax = (0..kc)
+            .map(|k| {
+                let (sec, param, _) = self.curve(k);
+                (0..probe)
+                    .map(|j| param.eval(sec, (j as f64 + 0.5) / probe as f64).speed())
+                    .fold(0.0f64, f64::max)
+            })
+            .fold(0.0f64, f64::max);
+        let polys: Vec<Vec<V2>> = self
+            .section
+            .curves()
+            .iter()
+            .map(|c| crate::polyline::polyline(&c.pieces, 1024))
             .collect();
+        let m_for = |x: V2| -> usize {
+            let d = polys
+                .iter()
+                .map(|p| crate::polyline::polyline_distance(p, x))
+                .fold(f64::INFINITY, f64::min);
+            let need = (6.0 * 1.25 * smax / d.max(f64::MIN_POSITIVE)).min((1u64 << 22) as f64);
+            (need as usize).next_power_of_two().max(4 * n)
+        };
+        let ms: Vec<usize> = points.iter().map(|&x| m_for(x)).collect();
+        let mut out = vec![None; points.len()];
+        let mut sizes = ms.clone();
+        sizes.sort_unstable();
+        sizes.dedup();
+        for m in sizes {
+            let idx: Vec<usize> = (0..points.len()).filter(|&i| ms[i] == m).collect();
+            let mut nodes = Vec::with_capacity(kc * m);
+            let mut mu = Vec::with_capacity(kc * m);
+            for k in 0..kc {
+                let (sec, param, dens) = self.curve(k);
+                mu.extend(dens.sample(m, 0.5));
+                nodes.extend(
+                    (0..m)
+                        .into_par_iter()
+                        .map(|j| {
+                            let p = param.eval(sec, (j as f64 + 0.5) / m as f64);
+                            (p.x(), p.d1)
+                        })
+                        .collect::<Vec<_>>(),
+                );
+            }
+            let vals: Vec<InteriorValue> = idx
+                .par_iter()
+                .map(|&i| self.represent(points[i], &nodes, &mu, m))
+                .collect();
+            for (i, v) in idx.into_iter().zip(vals) {
+                out[i] = Some(v);
+            }
+        }
+        out.into_iter().flatten().collect()
+    }
+
+    /// The representation formula at x on the given nodes (position, x′) and densities.
+    fn represent(&self, x: V2, nodes: &[(V2, V2)], mu: &[f64], m: usize) -> InteriorValue {
         let x0 = self.centroid;
         let h = 1.0 / m as f64;
-        points
-            .par_iter()
-            .map(|&x| {
-                // v(x) = g(x) + Σ h [w μ − (g(y) − g(x)) k], with ∮ ∂w/∂n_y = −1 inside
-                let gx = 0.5 * ((x[0] - x0[0]).powi(2) + (x[1] - x0[1]).powi(2));
-                let grad_g = [x[0] - x0[0], x[1] - x0[1]];
-                let (mut v, mut vx, mut vy) = (gx, grad_g[0], grad_g[1]);
-                for (k, y) in nodes.iter().enumerate() {
-                    let yx = y.x();
-                    let d = [x[0] - yx[0], x[1] - yx[1]];
-                    let r2 = d[0] * d[0] + d[1] * d[1];
-                    let nl = [y.d1[1], -y.d1[0]]; // n |y′|
-                    let w = -(r2.ln()) / (4.0 * PI);
-                    let gw = [-d[0] / (2.0 * PI * r2), -d[1] / (2.0 * PI * r2)];
-                    let dn = d[0] * nl[0] + d[1] * nl[1];
-                    let kk = dn / (2.0 * PI * r2);
-                    let gk = [
-                        (nl[0] - 2.0 * d[0] * dn / r2) / (2.0 * PI * r2),
-                        (nl[1] - 2.0 * d[1] * dn / r2) / (2.0 * PI * r2),
-                    ];
-                    let gy = 0.5 * ((yx[0] - x0[0]).powi(2) + (yx[1] - x0[1]).powi(2));
-                    let dg = gy - gx;
-                    v += h * (w * mu[k] - dg * kk);
-                    vx += h * (gw[0] * mu[k] + grad_g[0] * kk - dg * gk[0]);
-                    vy += h * (gw[1] * mu[k] + grad_g[1] * kk - dg * gk[1]);
-                }
-                let u = v - gx;
-                let ux = vx - grad_g[0];
-                let uy = vy - grad_g[1];
-                InteriorValue {
-                    x,
-                    u,
-                    tau_xz: uy,
-                    tau_yz: -ux,
-                }
-            })
-            .collect()
+        // v(x) = g(x) + Σ h [w μ − (g(y) − g(x)) k], with ∮ ∂w/∂n_y = −1 inside Ω
+        let gx = 0.5 * ((x[0] - x0[0]).powi(2) + (x[1] - x0[1]).powi(2));
+        let grad_g = [x[0] - x0[0], x[1] - x0[1]];
+        let (mut v, mut vx, mut vy) = (0.0, 0.0, 0.0);
+        for (k, &(yx, d1)) in nodes.iter().enumerate() {
+            let d = [x[0] - yx[0], x[1] - yx[1]];
+            let r2 = d[0] * d[0] + d[1] * d[1];
+            let nl = [d1[1], -d1[0]]; // n |y′|
+            let w = -(r2.ln()) / (4.0 * PI);
+            let gw = [-d[0] / (2.0 * PI * r2), -d[1] / (2.0 * PI * r2)];
+            let dn = d[0] * nl[0] + d[1] * nl[1];
+            let kk = dn / (2.0 * PI * r2);
+            let gk = [
+                (nl[0] - 2.0 * d[0] * dn / r2) / (2.0 * PI * r2),
+                (nl[1] - 2.0 * d[1] * dn / r2) / (2.0 * PI * r2),
+            ];
+            let gy = 0.5 * ((yx[0] - x0[0]).powi(2) + (yx[1] - x0[1]).powi(2));
+            let dg = gy - gx;
+            v += w * mu[k] - dg * kk;
+            vx += gw[0] * mu[k] + grad_g[0] * kk - dg * gk[0];
+            vy += gw[1] * mu[k] + grad_g[1] * kk - dg * gk[1];
+        }
+        let v = gx + h * v;
+        let vx = grad_g[0] + h * vx;
+        let vy = grad_g[1] + h * vy;
+        let u = v - gx;
+        let ux = vx - grad_g[0];
+        let uy = vy - grad_g[1];
+        InteriorValue {
+            x,
+            u,
+            tau_xz: uy,
+            tau_yz: -ux,
+        }
     }
 }

@@ -36,7 +36,13 @@ fn bare_system_singular_at_capacity_one_augmented_not() {
         let param = Parametrisation::new(&sec, 6.0);
         let n = 64;
         // Daubechies Galerkin
-        let sys = galerkin::assemble(&sec, &param, n, Daubechies::new(4).unwrap()).unwrap();
+        let sys = galerkin::assemble(
+            &sec,
+            std::slice::from_ref(&param),
+            n,
+            Daubechies::new(4).unwrap(),
+        )
+        .unwrap();
         let bare = smallest_ratio(n, &sys.matrix);
         let mut aug = vec![0.0; (n + 1) * (n + 1)];
         for i in 0..n {
@@ -64,7 +70,13 @@ fn bare_system_singular_at_capacity_one_augmented_not() {
     // away from capacity 1 the bare system is regular (so the test above can fail)
     let sec = sections::circle(0.5).unwrap();
     let param = Parametrisation::new(&sec, 6.0);
-    let sys = galerkin::assemble(&sec, &param, 64, Daubechies::new(4).unwrap()).unwrap();
+    let sys = galerkin::assemble(
+        &sec,
+        std::slice::from_ref(&param),
+        64,
+        Daubechies::new(4).unwrap(),
+    )
+    .unwrap();
     assert!(smallest_ratio(64, &sys.matrix) > 1e-4);
 }
 

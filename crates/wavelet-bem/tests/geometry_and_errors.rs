@@ -157,7 +157,17 @@ fn spec_strings_parse_or_name_the_bad_field() {
     assert!(msg("hexagon:r=1").contains("unknown section kind"));
     assert!(msg("polygon:0,0;1,x;0,1").contains("vertex 2"));
     assert!(msg("polygon:0,0;1,1;1,0;0,1").contains("self-intersecting"));
-    assert!(msg("no-such-file.toml").contains("unknown section kind"));
+    // a missing file is named as such (issue 15), a repeated key is an error
+    let m = msg("no-such-file.toml");
+    assert!(
+        m.contains("no such file") && m.contains("no-such-file.toml"),
+        "{m}"
+    );
+    assert!(msg("sections/box.toml").contains("no such file"));
+    assert!(msg("rectangle:w=1,w=2").contains("given twice"));
+    assert!(msg("tube:ro=1,ri=1").contains("`ri`"));
+    assert!(msg("box:w=1,h=1,t=0.6").contains("`tw`"));
+    assert!(msg("box:w=1,h=1,t=0.1,tf=0.2").contains("either t or tf and tw"));
 }
 
 #[test]

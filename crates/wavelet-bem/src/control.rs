@@ -1,0 +1,219 @@
+//! Error control: a starting resolution from the geometry, refinement by
+//! doubling n until two successive resolutions agree on J and τ_max, and the
+//! estimated errors of the reported (finer) result.
+//!
+//! The estimate of a result at n is the difference from the result at n/2:
+//! for a method converging like n^{−k} with k ≥ 1 that difference bounds the
+//! error of the n/2 result up to the factor 1/(1 − 2^{−k}), and so bounds the
+//! error of the n result with room to spare (2^{−k}·(1 − 2^{−k})^{−1} ≤ 1).
+//! It is an *estimate*, not a proof: pre-asymptotic agreement of two wrong
+//! results is possible, which is why the starting resolution comes from the
+//! geometry (pieces, corners, slenderness) and never falls below it.
+
+use crate::error::SolveError;
+use crate::geometry::Section;
+use crate::solve::{MaxShear, Method, Options, TorsionSolution, solve};
+
+/// One resolution of a refinement sequence.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Level {
+    /// number of unknowns per boundary curve
+    pub n: usize,
+    /// torsional rigidity J at this n
+    pub torsional_rigidity: f64,
+    /// τ_max at this n (None when singular)
+    pub max_shear_stress: Option<f64>,
+}
+
+/// A result with its error estimate.
+#[derive(Clone, Debug)]
+pub struct Controlled {
+    /// the finest solution computed
+    pub solution: TorsionSolution,
+    /// its τ_max
+    pub max_shear: MaxShear,
+    /// estimated relative error of J: |J(n) − J(n/2)| / |J(n)|
+    pub j_error: f64,
+    /// estimated relative error of τ_max (None when τ_max is singular)
+    pub tau_error: Option<f64>,
+    /// the requested relative tolerance
+    pub tol: f64,
+    /// both estimates are within the tolerance
+    pub converged: bool,
+    /// every resolution computed, coarse to fine
+    pub levels: Vec<Level>,
+    /// why the result may not be trusted, if it may not
+    pub warnings: Vec<String>,
+}
+
+/// Smallest n a method accepts for `opts` (a power of two for Daubechies).
+fn min_n(opts: &Options) -> usize {
+    match opts.method {
+        Method::Daubechies => crate::daubechies::Daubechies::new(opts.wavelet_order)
+            .map(|w| w.min_n())
+            .unwrap_or(8)
+            .max(16),
+        _ => 16,
+    }
+}
+
+/// Starting resolution from the geometry: every piece of a multi-piece
+/// boundary gets about 16 nodes (each panel holds at least half its uniform
+/// share n/(2m), and a graded panel needs nodes in both corner clusters), and
+/// slender sections get about 8 nodes per mean thickness 2A/P along each curve.
+pub fn starting_n(section: &Section, opts: &Options) -> usize {
+    let mut n = min_n(opts).max(64);
+    for curve in section.curves() {
+        let m = curve.pieces.len();
+        if m > 1 || curve.junctions.iter().any(|j| !j.is_smooth()) {
+            n = n.max(32 * m);
+        }
+    }
+    // mean thickness 2A/P (a strip of width t has A ≈ tP/2, P the total perimeter):
+    // about 8 nodes per thickness along each curve, so that the near-singular
+    // interaction of the two faces of a thin wall is resolved
+    let thick = 2.0 * section.area / section.total_perimeter();
+    for curve in section.curves() {
+        n = n.max((8.0 * curve.perimeter() / thick).min(1e9) as usize);
+    }
+    n.next_power_of_two()
+}
+
+/// Largest n the dense solvers are run at by default (a dense order-4096 solve takes seconds).
+pub const DEFAULT_N_MAX: usize = 4096;
+
+fn rel(a: f64, b: f64) -> f64 {
+    let s = a.abs().max(b.abs());
+    if s == 0.0 { 0.0 } else { (a - b).abs() / s }
+}
+
+fn level(sol: &TorsionSolution, ms: &MaxShear) -> Level {
+    Level {
+        n: sol.options.n,
+        torsional_rigidity: sol.torsional_rigidity,
+        max_shear_stress: ms.value,
+    }
+}
+
+fn finish(
+    coarse: (TorsionSolution, MaxShear),
+    fine: (TorsionSolution, MaxShear),
+    tol: f64,
+    levels: Vec<Level>,
+    reached_cap: bool,
+) -> Controlled {
+    let j_error = rel(fine.0.torsional_rigidity, coarse.0.torsional_rigidity);
+    let tau_error = match (fine.1.value, coarse.1.value) {
+        (Some(a), Some(b)) => Some(rel(a, b)),
+        _ => None,
+    };
+    let converged = j_error <= tol && tau_error.is_none_or(|e| e <= tol);
+    let mut warnings = Vec::new();
+    if !converged {
+        let n = fine.0.options.n;
+        let mut w = format!(
+            "not converged to the tolerance {tol:.1e} at n = {n}: estimated relative error of J {j_error:.1e}"
+        );
+        if let Some(t) = tau_error {
+            w += &format!(", of τ_max {t:.1e}");
+        }
+        if reached_cap {
+            w += " (the largest n allowed was reached)";
+        }
+        warnings.push(w);
+    }
+    Controlled {
+        solution: fine.0,
+        max_shear: fine.1,
+        j_error,
+        tau_error,
+        tol,
+        converged,
+        levels,
+        warnings,
+    }
+}
+
+/// Solves at `opts.n` and at `opts.n / 2` and reports the difference as the
+/// error estimate of the result at `opts.n` (the expert path, `--n`).
+pub fn solve_with_estimate(
+    section: &Section,
+    opts: &Options,
+    tol: f64,
+) -> Result<Controlled, SolveError> {
+    let fine = solve(section, opts)?;
+    let fms = fine.max_shear();
+    let half = opts.n / 2;
+    if half < min_n(opts) {
+        return Err(SolveError::BadN {
+            n: opts.n,
+            reason: format!(
+                "the error estimate needs a solve at n/2 = {half}; use n ≥ {}",
+                2 * min_n(opts)
+            ),
+        });
+    }
+    let coarse = solve(section, &Options { n: half, ..*opts })?;
+    let cms = coarse.max_shear();
+    let levels = vec![level(&coarse, &cms), level(&fine, &fms)];
+    Ok(finish((coarse, cms), (fine, fms), tol, levels, false))
+}
+
+/// Refines from [`starting_n`] (or `opts.n` if larger) by doubling until J and
+/// τ_max at n and n/2 agree to the relative tolerance `tol`, or `n_max` is
+/// reached (then `converged` is false and a warning says so).
+pub fn solve_to_tolerance(
+    section: &Section,
+    opts: &Options,
+    tol: f64,
+    n_max: usize,
+) -> Result<Controlled, SolveError> {
+    if !(tol > 0.0 && tol < 1.0) {
+        return Err(SolveError::BadN {
+            n: opts.n,
+            reason: format!("the tolerance must lie in (0, 1), got {tol:e}"),
+        });
+    }
+    let n0 = starting_n(section, opts).max(opts.n);
+    let mut start_warning = None;
+    if n0 > n_max {
+        start_warning = Some(format!(
+            "the geometry asks for n ≥ {n0} (pieces, slenderness) but at most n = {n_max} is allowed"
+        ));
+    }
+    let mut n = (n0 / 2).min(n_max / 2).max(min_n(opts));
+    let mut prev: Option<(TorsionSolution, MaxShear)> = None;
+    let mut levels = Vec::new();
+    let with_start = |mut c: Controlled| {
+        if let Some(w) = &start_warning {
+            c.warnings.push(w.clone());
+        }
+        c
+    };
+    loop {
+        let sol = solve(section, &Options { n, ..*opts })?;
+        let ms = sol.max_shear();
+        levels.push(level(&sol, &ms));
+        if let Some(p) = prev.take() {
+            let at_cap = 2 * n > n_max;
+            let c = finish(p.clone(), (sol.clone(), ms), tol, levels.clone(), at_cap);
+            if c.converged || at_cap {
+                return Ok(with_start(c));
+            }
+        } else if 2 * n > n_max {
+            // cannot refine at all: estimate from n/2
+            let coarse = solve(section, &Options { n: n / 2, ..*opts })?;
+            let cms = coarse.max_shear();
+            levels.insert(0, level(&coarse, &cms));
+            return Ok(with_start(finish(
+                (coarse, cms),
+                (sol, ms),
+                tol,
+                levels,
+                true,
+            )));
+        }
+        prev = Some((sol, ms));
+        n *= 2;
+    }
+}
