@@ -16,6 +16,27 @@ pub enum ThermalError {
     /// Assembly or a linear solve failed.
     #[error(transparent)]
     Fem(#[from] FemError),
+    /// A 6-node triangle of a P2 mesh is inverted or folded.
+    #[error("triangle {element} (6-node): {source}")]
+    InvalidElement {
+        /// Element (triangle) index.
+        element: usize,
+        /// What is wrong with its geometry.
+        source: tecon_fem::triangle6::Triangle6Error,
+    },
+    /// An edge of a P2 mesh's edge set has no mid node, or its 3-node
+    /// geometry is degenerate.
+    #[error("edge set '{set}', edge {a}–{b}: {reason}")]
+    InvalidEdge {
+        /// Edge set name.
+        set: String,
+        /// First corner node.
+        a: usize,
+        /// Second corner node.
+        b: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// A material property that must be positive and finite is not.
     #[error("region '{region}': {property} must be positive and finite, got {value}")]
     InvalidMaterial {

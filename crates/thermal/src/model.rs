@@ -15,11 +15,15 @@ use crate::conductance::{ConductanceLaw, ConstantConductance, InterfacePointStat
 use crate::error::ThermalError;
 use crate::initial::{BorderRule, InitialTemperature};
 use crate::kernels::{ConvectionEdges, InterfaceElements};
+use crate::kernels6::{Convection3Edges, Interface3Elements};
 use crate::material::{CapacityKind, Material};
 use crate::output::Snapshot;
 use crate::schedule::{ThetaScheme, TimeSchedule};
 use crate::stepper::StepperStats;
-use crate::system::{InterfaceRange, SystemInput, ThermalSystem};
+use crate::system::{InterfaceRange, P2Input, SystemInput, ThermalSystem};
+use tecon_fem::edge3::Edge3;
+use tecon_fem::interface3::Interface3Geometry;
+use tecon_fem::triangle6::Triangle6;
 
 /// Thermal coupling of one interface.
 #[derive(Debug, Clone)]
@@ -303,9 +307,16 @@ impl<'m> ThermalModel<'m> {
         let (mut num, mut den) = (vec![0.0; n], vec![0.0; n]);
         let mut lo = vec![f64::INFINITY; n];
         let mut hi = vec![f64::NEG_INFINITY; n];
+        let tris6 = mesh.triangles6().unwrap_or(&[]);
         for (e, t) in mesh.triangles().iter().enumerate() {
             let w = rho_c[e] * signed_area(nodes[t[0]], nodes[t[1]], nodes[t[2]]).abs();
-            for &i in t {
+            // P2: mid nodes take part like corners (a mid node inside a
+            // region gets the region's value, one on a border the rule's).
+            let all: &[usize] = match tris6.get(e) {
+                Some(t6) => t6,
+                None => t,
+            };
+            for &i in all {
                 num[i] += w * element[e];
                 den[i] += w;
                 lo[i] = lo[i].min(element[e]);
@@ -379,8 +390,45 @@ impl<'m> ThermalModel<'m> {
             dirichlet.set(node, v);
             Ok(())
         };
+        let quadratic = mesh.order() == 2;
+        let mut convection3 = Convection3Edges::default();
         for (set, bc) in &self.edge_bcs {
             let edges = mesh.edge_set(set)?;
+            if quadratic {
+                for &[a, b] in edges {
+                    let edge_error = |reason: String| ThermalError::InvalidEdge {
+                        set: set.clone(),
+                        a,
+                        b,
+                        reason,
+                    };
+                    let m = mesh.edge_mid_node(a, b).ok_or_else(|| {
+                        edge_error("no mid node (not an edge of the P2 mesh)".into())
+                    })?;
+                    let geometry = Edge3::new([nodes[a], nodes[b], nodes[m]])
+                        .map_err(|e| edge_error(e.to_string()))?;
+                    match *bc {
+                        EdgeBc::Convection { h, ambient } => {
+                            convection3.edges.push([a, b, m]);
+                            convection3.geometry.push(geometry);
+                            convection3.h.push(h);
+                            convection3.ambient.push(ambient);
+                        }
+                        EdgeBc::Flux { q_in } => {
+                            let f = geometry.load_vector(q_in);
+                            for (k, node) in [a, b, m].into_iter().enumerate() {
+                                flux_loads.push((node, f[k]));
+                            }
+                        }
+                        EdgeBc::Temperature { value } => {
+                            for node in [a, b, m] {
+                                prescribe(node, value, set)?;
+                            }
+                        }
+                    }
+                }
+                continue;
+            }
             match *bc {
                 EdgeBc::Convection { h, ambient } => {
                     for &[a, b] in edges {
@@ -415,6 +463,7 @@ impl<'m> ThermalModel<'m> {
         }
         // Interfaces.
         let mut interfaces = InterfaceElements::default();
+        let mut interfaces3 = Interface3Elements::default();
         let mut ranges = Vec::new();
         for name in mesh.interfaces().keys() {
             let spec =
@@ -426,7 +475,56 @@ impl<'m> ThermalModel<'m> {
             let InterfaceSpec::Law { law, rule, states } = spec else {
                 continue;
             };
-            let elements = &mesh.interface(name)?.elements;
+            let itf = mesh.interface(name)?;
+            let elements = &itf.elements;
+            if quadratic {
+                let start = interfaces3.nodes.len();
+                for (e, (&el, &mid)) in elements.iter().zip(&itf.mid_nodes).enumerate() {
+                    let n6 = [el[0], el[1], el[2], el[3], mid[0], mid[1]];
+                    let pts = n6.map(|i| Point2::new(nodes[i][0], nodes[i][1]));
+                    let g = Interface3Geometry::new(&pts).map_err(|source| {
+                        ThermalError::InterfaceGeometry {
+                            interface: name.clone(),
+                            element: e,
+                            source,
+                        }
+                    })?;
+                    let st = states
+                        .as_ref()
+                        .map(|s| s[e])
+                        .unwrap_or([InterfacePointState::default(); 2]);
+                    // The law sees the corner states at the end points and
+                    // their mean at the mid point.
+                    let mid_state = InterfacePointState {
+                        gap: 0.5 * (st[0].gap + st[1].gap),
+                        pressure: 0.5 * (st[0].pressure + st[1].pressure),
+                    };
+                    let h = [
+                        law.conductance(&st[0]),
+                        law.conductance(&mid_state),
+                        law.conductance(&st[1]),
+                    ];
+                    for v in h {
+                        if !(v >= 0.0 && v.is_finite()) {
+                            return Err(ThermalError::InvalidConductance {
+                                interface: name.clone(),
+                                element: Some(e),
+                                requirement: "non-negative and finite",
+                                value: v,
+                            });
+                        }
+                    }
+                    interfaces3.nodes.push(n6);
+                    interfaces3.geometry.push(g);
+                    interfaces3.rule.push(*rule);
+                    interfaces3.h_c.push(h);
+                }
+                ranges.push(InterfaceRange {
+                    name: name.clone(),
+                    range: start..interfaces3.nodes.len(),
+                });
+                continue;
+            }
             let start = interfaces.nodes.len();
             for (e, &el) in elements.iter().enumerate() {
                 let pts = el.map(|i| Point2::new(nodes[i][0], nodes[i][1]));
@@ -467,6 +565,25 @@ impl<'m> ThermalModel<'m> {
         } else {
             None
         };
+        let p2 = match mesh.triangles6() {
+            Some(tris6) => {
+                let geometry = tris6
+                    .iter()
+                    .enumerate()
+                    .map(|(e, t)| {
+                        Triangle6::new(t.map(|i| nodes[i]))
+                            .map_err(|source| ThermalError::InvalidElement { element: e, source })
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                Some(P2Input {
+                    triangles: tris6,
+                    geometry,
+                    convection: convection3,
+                    interfaces: interfaces3,
+                })
+            }
+            None => None,
+        };
         ThermalSystem::build(SystemInput {
             mesh,
             conductivity,
@@ -478,6 +595,7 @@ impl<'m> ThermalModel<'m> {
             interfaces,
             interface_ranges: ranges,
             initial,
+            p2,
         })
     }
 

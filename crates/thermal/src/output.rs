@@ -83,11 +83,14 @@ impl BodyBalance {
 /// Heat exchange of one thermal interface element.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InterfaceFlux {
-    /// Temperature jump `⟦T⟧ = T_top − T_bottom` at the two integration points.
+    /// Temperature jump `⟦T⟧ = T_top − T_bottom` at the two integration
+    /// points (P2 elements: at the two corner node pairs (1, 4) and (2, 3)).
     pub jump: [f64; 2],
-    /// Flux `q = h_c ⟦T⟧` (W/m²) at the two points: heat flowing from the
-    /// top body into the bottom body per unit area.
+    /// Flux `q = h_c ⟦T⟧` (W/m²) at the same two places: heat flowing from
+    /// the top body into the bottom body per unit area.
     pub flux: [f64; 2],
+    /// P2 elements only: `[⟦T⟧, q]` at the mid node pair (5, 6).
+    pub mid: Option<[f64; 2]>,
     /// `∫ q dζ` over the element (W/m), top → bottom.
     pub heat_rate: f64,
 }
@@ -112,10 +115,12 @@ pub struct Snapshot {
     pub step: usize,
     /// Nodal temperatures.
     pub temperature: Vec<f64>,
-    /// Per-element mean temperature `(T₁ + T₂ + T₃)/3` (the value the
-    /// thermal strain `α (T_e − T_ref,e)` uses).
+    /// Per-element mean temperature: `(T₁ + T₂ + T₃)/3` on linear triangles
+    /// (the value their thermal strain `α (T_e − T_ref,e)` uses), `∫T dA / A`
+    /// on 6-node triangles (whose thermal strain interpolates the nodal
+    /// field instead).
     pub element_temperature: Vec<f64>,
-    /// Per-element gradient ∇T (K/m).
+    /// Per-element gradient ∇T (K/m) (6-node triangles: at the centroid).
     pub gradient: Vec<[f64; 2]>,
     /// Per-element heat flux `q = −k ∇T` (W/m²).
     pub flux: Vec<[f64; 2]>,

@@ -16,8 +16,15 @@ use crate::error::ThermalError;
 use crate::kernels::{
     CapacityElements, ConductionElements, ConvectionEdges, InterfaceElements, triangle_geometry,
 };
+use crate::kernels6::{
+    Capacity6Elements, Conduction6Elements, Convection3Edges, Interface3Elements,
+    convective_weights3,
+};
 use crate::output::{BodyBalance, HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
 use crate::stepper::ThetaStepper;
+use tecon_fem::interface3::Interface3Geometry;
+use tecon_fem::quadrature::TriangleRule;
+use tecon_fem::triangle6::Triangle6;
 
 /// One row of the unconstrained C and K at a prescribed-temperature dof
 /// (for the reaction in the heat balance).
@@ -49,6 +56,23 @@ impl BodyFlows {
             gross: vec![0.0; n_bodies],
         }
     }
+}
+
+/// The quadratic (P2) parts of a system: element geometry and the 3-pair
+/// interface elements (the P1 lists are then empty).
+#[derive(Debug)]
+pub(crate) struct P2Parts<'m> {
+    pub triangles: &'m [[usize; 6]],
+    pub geometry: Vec<Triangle6>,
+    pub interfaces: Interface3Elements,
+}
+
+/// What the model hands over for a P2 mesh.
+pub(crate) struct P2Input<'m> {
+    pub triangles: &'m [[usize; 6]],
+    pub geometry: Vec<Triangle6>,
+    pub convection: Convection3Edges,
+    pub interfaces: Interface3Elements,
 }
 
 /// Range of one named interface inside the flattened interface elements.
@@ -93,6 +117,7 @@ pub struct ThermalSystem<'m> {
     pub(crate) modes: Vec<RigidMode>,
     pub(crate) initial: Option<Vec<f64>>,
     pub(crate) region_initial: Option<Vec<f64>>,
+    pub(crate) p2: Option<P2Parts<'m>>,
 }
 
 /// Everything the model hands to [`ThermalSystem::build`].
@@ -108,6 +133,8 @@ pub(crate) struct SystemInput<'m> {
     pub interfaces: InterfaceElements,
     pub interface_ranges: Vec<InterfaceRange>,
     pub initial: Option<(Vec<f64>, Vec<f64>)>,
+    /// `Some` for a P2 mesh (`convection` and `interfaces` are then empty).
+    pub p2: Option<P2Input<'m>>,
 }
 
 impl<'m> ThermalSystem<'m> {
@@ -116,35 +143,70 @@ impl<'m> ThermalSystem<'m> {
         let n = mesh.n_nodes();
         let nodes = mesh.nodes();
         let triangles = mesh.triangles();
-        let cond = ConductionElements {
-            nodes,
-            triangles,
-            conductivity: &input.conductivity,
-        };
-        let cap = CapacityElements {
-            nodes,
-            triangles,
-            rho_c: &input.rho_c,
-            kind: input.capacity,
-        };
-        let mut builder = tecon_fem::AssemblerBuilder::new(n);
-        let b_tri = builder.add_elements(&cond);
-        let b_conv = builder.add_elements(&input.convection);
-        let b_int = builder.add_elements(&input.interfaces);
-        let assembler = builder.build()?;
-        let mut k = assembler.new_matrix();
-        let mut c = assembler.new_matrix();
         let mut load = vec![0.0; n];
-        assembler.add(b_tri, &cond, &mut k, None, Parallelism::Rayon)?;
-        assembler.add(
-            b_conv,
-            &input.convection,
-            &mut k,
-            Some(&mut load),
-            Parallelism::Rayon,
-        )?;
-        assembler.add(b_int, &input.interfaces, &mut k, None, Parallelism::Rayon)?;
-        assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
+        let mut builder = tecon_fem::AssemblerBuilder::new(n);
+        let (assembler, k, c, p2) = match input.p2 {
+            None => {
+                let cond = ConductionElements {
+                    nodes,
+                    triangles,
+                    conductivity: &input.conductivity,
+                };
+                let cap = CapacityElements {
+                    nodes,
+                    triangles,
+                    rho_c: &input.rho_c,
+                    kind: input.capacity,
+                };
+                let b_tri = builder.add_elements(&cond);
+                let b_conv = builder.add_elements(&input.convection);
+                let b_int = builder.add_elements(&input.interfaces);
+                let assembler = builder.build()?;
+                let mut k = assembler.new_matrix();
+                let mut c = assembler.new_matrix();
+                assembler.add(b_tri, &cond, &mut k, None, Parallelism::Rayon)?;
+                assembler.add(
+                    b_conv,
+                    &input.convection,
+                    &mut k,
+                    Some(&mut load),
+                    Parallelism::Rayon,
+                )?;
+                assembler.add(b_int, &input.interfaces, &mut k, None, Parallelism::Rayon)?;
+                assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
+                (assembler, k, c, None)
+            }
+            Some(p2) => {
+                let cond = Conduction6Elements {
+                    geometry: &p2.geometry,
+                    triangles: p2.triangles,
+                    conductivity: &input.conductivity,
+                };
+                let cap = Capacity6Elements {
+                    geometry: &p2.geometry,
+                    triangles: p2.triangles,
+                    rho_c: &input.rho_c,
+                    kind: input.capacity,
+                };
+                let b_tri = builder.add_elements(&cond);
+                let b_conv = builder.add_elements(&p2.convection);
+                let b_int = builder.add_elements(&p2.interfaces);
+                let assembler = builder.build()?;
+                let mut k = assembler.new_matrix();
+                let mut c = assembler.new_matrix();
+                assembler.add(b_tri, &cond, &mut k, None, Parallelism::Rayon)?;
+                assembler.add(
+                    b_conv,
+                    &p2.convection,
+                    &mut k,
+                    Some(&mut load),
+                    Parallelism::Rayon,
+                )?;
+                assembler.add(b_int, &p2.interfaces, &mut k, None, Parallelism::Rayon)?;
+                assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
+                (assembler, k, c, Some(p2))
+            }
+        };
         let mut flux_load = 0.0;
         let mut flux_node = vec![0.0; n];
         for &(node, f) in &input.flux_loads {
@@ -166,6 +228,17 @@ impl<'m> ThermalSystem<'m> {
             for a in cv.edges[e] {
                 conv_w[a] += w;
                 conv_f[a] += w * cv.ambient[e];
+            }
+        }
+        if let Some(p2) = &p2 {
+            // Column sums of each 3-node edge's ∫ h N Nᵀ ds (same rule as K).
+            let cv = &p2.convection;
+            for e in 0..cv.edges.len() {
+                let w = convective_weights3(&cv.geometry[e], cv.h[e]);
+                for (&a, wa) in cv.edges[e].iter().zip(w) {
+                    conv_w[a] += wa;
+                    conv_f[a] += wa * cv.ambient[e];
+                }
             }
         }
         let row_sums = conv_w.clone();
@@ -232,7 +305,17 @@ impl<'m> ThermalSystem<'m> {
             modes,
             initial,
             region_initial,
+            p2: p2.map(|p| P2Parts {
+                triangles: p.triangles,
+                geometry: p.geometry,
+                interfaces: p.interfaces,
+            }),
         })
+    }
+
+    /// Element order of the system: 1 (linear) or 2 (6-node triangles).
+    pub fn order(&self) -> usize {
+        if self.p2.is_some() { 2 } else { 1 }
     }
 
     /// Number of nodal unknowns.
@@ -393,6 +476,18 @@ impl<'m> ThermalSystem<'m> {
             flows.gross[nb[n[0]]] += q.abs();
             flows.gross[nb[n[3]]] += q.abs();
         }
+        if let Some(p2) = &self.p2 {
+            let ie = &p2.interfaces;
+            for e in 0..ie.nodes.len() {
+                let n = ie.nodes[e];
+                let q =
+                    scale * interface3_flux(&ie.geometry[e], ie.rule[e], ie.h_c[e], n, t).heat_rate;
+                flows.interface[nb[n[0]]] += q;
+                flows.interface[nb[n[3]]] -= q;
+                flows.gross[nb[n[0]]] += q.abs();
+                flows.gross[nb[n[3]]] += q.abs();
+            }
+        }
     }
 
     /// Per-body balances from the accumulated flows and the stored change
@@ -437,8 +532,24 @@ impl<'m> ThermalSystem<'m> {
         self.flux_nodes.iter().map(|(_, f)| f.abs()).sum()
     }
 
-    /// Element means of a nodal field.
+    /// Element means of a nodal field (`∫T dA / A` on 6-node triangles).
     pub fn element_means(&self, t: &[f64]) -> Vec<f64> {
+        if let Some(p2) = &self.p2 {
+            return p2
+                .triangles
+                .par_iter()
+                .zip(p2.geometry.par_iter())
+                .map(|(tri, g)| {
+                    let v = tri.map(|a| t[a]);
+                    let (mut s, mut area) = (0.0, 0.0);
+                    for q in g.points(TriangleRule::Degree2) {
+                        s += q.weight * q.interpolate(&v);
+                        area += q.weight;
+                    }
+                    s / area
+                })
+                .collect();
+        }
         self.mesh
             .triangles()
             .par_iter()
@@ -459,31 +570,65 @@ impl<'m> ThermalSystem<'m> {
     ) -> Snapshot {
         let nodes = self.mesh.nodes();
         let tris = self.mesh.triangles();
-        let (gradient, flux): (Vec<[f64; 2]>, Vec<[f64; 2]>) = tris
-            .par_iter()
-            .zip(self.element_conductivity.par_iter())
-            .map(|(tri, &k)| {
-                let g = triangle_geometry(nodes, *tri);
-                let mut grad = [0.0; 2];
-                for a in 0..3 {
-                    grad[0] += g.dndx[a] * t[tri[a]];
-                    grad[1] += g.dndy[a] * t[tri[a]];
-                }
-                (grad, [-k * grad[0], -k * grad[1]])
-            })
-            .unzip();
+        let (gradient, flux): (Vec<[f64; 2]>, Vec<[f64; 2]>) = match &self.p2 {
+            Some(p2) => p2
+                .triangles
+                .par_iter()
+                .zip(p2.geometry.par_iter())
+                .zip(self.element_conductivity.par_iter())
+                .map(|((tri, g), &k)| {
+                    let q = g.point([1.0 / 3.0, 1.0 / 3.0], 0.0);
+                    let mut grad = [0.0; 2];
+                    for a in 0..6 {
+                        grad[0] += q.dndx[a] * t[tri[a]];
+                        grad[1] += q.dndy[a] * t[tri[a]];
+                    }
+                    (grad, [-k * grad[0], -k * grad[1]])
+                })
+                .unzip(),
+            None => tris
+                .par_iter()
+                .zip(self.element_conductivity.par_iter())
+                .map(|(tri, &k)| {
+                    let g = triangle_geometry(nodes, *tri);
+                    let mut grad = [0.0; 2];
+                    for a in 0..3 {
+                        grad[0] += g.dndx[a] * t[tri[a]];
+                        grad[1] += g.dndy[a] * t[tri[a]];
+                    }
+                    (grad, [-k * grad[0], -k * grad[1]])
+                })
+                .unzip(),
+        };
         let ie = &self.interface_elements;
         let interfaces = self
             .interface_ranges
             .iter()
             .map(|r| {
-                let elements: Vec<InterfaceFlux> = r
-                    .range
-                    .clone()
-                    .map(|e| {
-                        interface_flux(&ie.geometry[e], ie.rule[e], ie.h_c[e], ie.nodes[e], &t)
-                    })
-                    .collect();
+                let elements: Vec<InterfaceFlux> = match &self.p2 {
+                    Some(p2) => {
+                        let i3 = &p2.interfaces;
+                        r.range
+                            .clone()
+                            .map(|e| {
+                                interface3_flux(
+                                    &i3.geometry[e],
+                                    i3.rule[e],
+                                    i3.h_c[e],
+                                    i3.nodes[e],
+                                    &t,
+                                )
+                            })
+                            .collect()
+                    }
+                    None => r
+                        .range
+                        .clone()
+                        .map(|e| {
+                            interface_flux(&ie.geometry[e], ie.rule[e], ie.h_c[e], ie.nodes[e], &t)
+                        })
+                        .collect(),
+                };
                 let heat_rate = elements.iter().map(|f| f.heat_rate).sum();
                 InterfaceResult {
                     name: r.name.clone(),
@@ -528,5 +673,34 @@ fn interface_flux(
         jump,
         flux,
         heat_rate,
+        mid: None,
+    }
+}
+
+/// Jumps and fluxes at the three node pairs of a 3-pair interface element
+/// (`h_c` of the point that belongs to each pair: points are ordered along
+/// the face, pair (1,4), mid pair, pair (2,3)), and the heat rate
+/// `Σ_p w_p h_c,p ⟦T⟧_p` integrated with the element's rule.
+fn interface3_flux(
+    g: &Interface3Geometry,
+    rule: InterfaceQuadrature,
+    h_c: [f64; 3],
+    nodes: [usize; 6],
+    t: &[f64],
+) -> InterfaceFlux {
+    let tv = tecon_fem::interface3::Vector6::from_fn(|i, _| t[nodes[i]]);
+    let heat_rate = g
+        .points(rule)
+        .iter()
+        .zip(h_c)
+        .map(|(p, h)| p.weight * h * p.jump_operator().dot(&tv))
+        .sum();
+    let pair = |bottom: usize, top: usize| t[nodes[top]] - t[nodes[bottom]];
+    let (j1, j2, j5) = (pair(0, 3), pair(1, 2), pair(4, 5));
+    InterfaceFlux {
+        jump: [j1, j2],
+        flux: [h_c[0] * j1, h_c[2] * j2],
+        heat_rate,
+        mid: Some([j5, h_c[1] * j5]),
     }
 }

@@ -192,3 +192,131 @@ fn p2_conduction_on_a_curved_annulus_converges_at_order_3_in_l2_and_2_in_h1() {
     // that the solve is the right problem, not only a right rate).
     assert!(l2s[3] < 1e-5 * T_I, "finest L2 error {}", l2s[3]);
 }
+
+// --------------------------------------------------------------------------
+// Through the model: concentric rings joined by a 3-pair interface (P2 mesh)
+// --------------------------------------------------------------------------
+
+use tecon_mesh::{RingLayer, layered_annulus_of_order};
+use tecon_thermal::analytical::ConcentricRings;
+use tecon_thermal::{EdgeBc, InterfaceQuadrature, Material, ThermalModel};
+
+const RINGS: ConcentricRings = ConcentricRings {
+    r_a: 1.0,
+    r_b: 1.5,
+    r_c: 2.0,
+    k1: 1.0,
+    k2: 2.0,
+    h_c: 2.0,
+    h: 5.0,
+    t_inner: 100.0,
+    ambient: 0.0,
+};
+
+/// Full rings, `rows` element rows per ring and `segments` around, P2.
+fn rings_p2(rows: usize, segments: usize) -> tecon_mesh::Mesh {
+    let layer = |name: &str, r_in, r_out| RingLayer {
+        name: name.into(),
+        r_in,
+        r_out,
+        rows,
+    };
+    layered_annulus_of_order(
+        &[
+            layer("a", RINGS.r_a, RINGS.r_b),
+            layer("b", RINGS.r_b, RINGS.r_c),
+        ],
+        0.0,
+        2.0 * std::f64::consts::PI,
+        segments,
+        2,
+    )
+    .unwrap()
+}
+
+/// (L2 error of T, largest error of the interface jump at the node pairs,
+/// relative error of the interface heat rate) of the steady rings.
+fn rings_p2_errors(mesh: &tecon_mesh::Mesh, rule: InterfaceQuadrature) -> (f64, f64, f64) {
+    let mut model = ThermalModel::new(mesh);
+    model
+        .set_material("a", Material::new(RINGS.k1, 1.0, 1.0))
+        .unwrap()
+        .set_material("b", Material::new(RINGS.k2, 1.0, 1.0))
+        .unwrap()
+        .add_edge_bc("inner", EdgeBc::temperature(RINGS.t_inner))
+        .unwrap()
+        .add_edge_bc("outer", EdgeBc::convection(RINGS.h, RINGS.ambient))
+        .unwrap()
+        .set_interface_law(
+            "a_b",
+            tecon_thermal::ConstantConductance::new(RINGS.h_c).unwrap(),
+            rule,
+        )
+        .unwrap();
+    let system = model.assemble().unwrap();
+    assert_eq!(system.order(), 2);
+    let snap = system.solve_steady().unwrap();
+    assert!(snap.balance.relative_residual() < 1e-10);
+    for b in &snap.bodies {
+        assert!(
+            b.relative_residual() < 1e-10,
+            "{}: {:e}",
+            b.body,
+            b.relative_residual()
+        );
+    }
+    let region_a = mesh.region_index("a").unwrap();
+    let mut l2 = 0.0;
+    for ((t6, &reg), _) in mesh
+        .triangles6()
+        .unwrap()
+        .iter()
+        .zip(mesh.element_regions())
+        .zip(0..)
+    {
+        let g = Triangle6::new(t6.map(|a| mesh.nodes()[a])).unwrap();
+        let v = t6.map(|a| snap.temperature[a]);
+        for q in g.points(TriangleRule::Degree5) {
+            let x = g.position(q.xi);
+            let r = x[0].hypot(x[1]);
+            let exact = if reg == region_a {
+                RINGS.inner(r)
+            } else {
+                RINGS.outer(r)
+            };
+            l2 += q.weight * (q.interpolate(&v) - exact).powi(2);
+        }
+    }
+    let itf = &snap.interfaces[0];
+    let err_jump = itf
+        .elements
+        .iter()
+        .flat_map(|f| f.jump.into_iter().chain(f.mid.map(|m| m[0])))
+        .map(|j| (j + RINGS.jump()).abs())
+        .fold(0.0, f64::max);
+    let err_q = (itf.heat_rate + RINGS.heat_rate()).abs() / RINGS.heat_rate();
+    (l2.sqrt(), err_jump, err_q)
+}
+
+#[test]
+fn p2_model_rings_with_interface_converge_at_order_3() {
+    for rule in [InterfaceQuadrature::Nodal, InterfaceQuadrature::Gauss2] {
+        let (mut hs, mut l2s) = (Vec::new(), Vec::new());
+        println!("{rule:?}: rows  segments  L2 error   jump error   heat-rate error");
+        for level in 0..4 {
+            let f = 1usize << level;
+            let mesh = rings_p2(f, 16 * f);
+            let (l2, ej, eq) = rings_p2_errors(&mesh, rule);
+            println!("{f:10} {:9} {l2:10.3e} {ej:12.3e} {eq:16.3e}", 16 * f);
+            hs.push(1.0 / f as f64);
+            l2s.push(l2);
+            if level == 3 {
+                assert!(ej < 1e-3 * RINGS.jump().abs(), "jump error {ej}");
+                assert!(eq < 1e-4, "heat-rate error {eq}");
+            }
+        }
+        let p = fitted_slope(&hs, &l2s);
+        println!("{rule:?}: fitted L2 order {p:.3}");
+        assert!((p - 3.0).abs() < 0.2, "{rule:?}: L2 order {p}");
+    }
+}
