@@ -1,0 +1,187 @@
+//! Load increments: cut-back on failure, and per increment the outer
+//! passes (augmented-Lagrangian multipliers, frozen friction limits).
+
+use tecon_contact::{FrictionBound, Vector8};
+
+use crate::error::ElasticError;
+
+use super::*;
+
+impl StaticSolver<'_> {
+    /// Advances from the committed loads to `target` in increments (cut back
+    /// on failure), committing the state at each converged increment.
+    pub fn advance(&mut self, target: &Loads) -> Result<Vec<IncrementReport>, ElasticError> {
+        let n_el = self.model.mesh.n_triangles();
+        if !target.delta_t.is_empty() && target.delta_t.len() != n_el {
+            return Err(ElasticError::Input {
+                what: "temperature change".into(),
+                message: format!("{} values for {n_el} triangles", target.delta_t.len()),
+            });
+        }
+        if let Some(e) = target.delta_t.iter().position(|t| !t.is_finite()) {
+            return Err(ElasticError::Input {
+                what: "temperature change".into(),
+                message: format!("element {e} has a non-finite value"),
+            });
+        }
+        let start = self.loads.clone();
+        let mut s = 0.0;
+        let mut ds = 1.0 / self.options.increments.max(1) as f64;
+        let mut cutbacks = Vec::new();
+        let mut reports = Vec::new();
+        while s < 1.0 - 1e-14 {
+            let s_try = (s + ds).min(1.0);
+            let loads = Loads::lerp(&start, target, s_try, n_el);
+            match self.increment(&loads) {
+                Ok((u, states, start, mut report)) => {
+                    // point output of the converged increment, evaluated from
+                    // the states its last Newton pass started from
+                    self.points = self.point_results(&u, &start);
+                    self.u = u;
+                    self.states = states;
+                    self.loads = loads;
+                    s = s_try;
+                    report.cutbacks = std::mem::take(&mut cutbacks);
+                    // an easy increment lets the next one grow back
+                    if report.max_pass_iterations <= 4 && report.cutbacks.is_empty() {
+                        ds = (2.0 * ds).min(1.0 / self.options.increments.max(1) as f64);
+                    }
+                    report.fraction = s;
+                    reports.push(report);
+                }
+                Err(ElasticError::NotConverged {
+                    reason, history, ..
+                }) => {
+                    let tail: Vec<String> = history
+                        .iter()
+                        .rev()
+                        .take(4)
+                        .rev()
+                        .map(|h| h.to_string())
+                        .collect();
+                    cutbacks.push(format!(
+                        "increment {ds:.3e} at fraction {s:.3}: {reason}; last iterations: {}",
+                        tail.join(" | ")
+                    ));
+                    ds *= 0.5;
+                    if ds < self.options.min_increment {
+                        return Err(ElasticError::NotConverged {
+                            fraction: s_try,
+                            increment: 2.0 * ds,
+                            reason,
+                            history,
+                        });
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        if reports.is_empty() {
+            // target equal to the committed loads: nothing to do
+            self.loads = target.clone();
+        }
+        Ok(reports)
+    }
+
+    /// One increment: converged displacements, the trial (new committed)
+    /// states, the states the last Newton pass started from (the old
+    /// committed ones with updated multipliers), and a report.
+    #[allow(clippy::type_complexity)]
+    pub(super) fn increment(
+        &mut self,
+        loads: &Loads,
+    ) -> Result<(Vec<f64>, States, States, IncrementReport), ElasticError> {
+        let f_ext = self.external_force(loads)?;
+        let mut committed = self.states.clone();
+        let mut total_iterations = 0;
+        let mut max_pass = 0;
+        let mut augmentations = 0;
+        let mut u = self.u.clone();
+        // Newton passes; with the augmented Lagrangian, each pass is followed
+        // by a multiplier update until the multipliers settle. `start` is the
+        // state set the accepted pass started from.
+        let (start, history) = loop {
+            let (u_new, history) = self.newton(&f_ext, loads, &committed, u.clone())?;
+            total_iterations += history.len();
+            max_pass = max_pass.max(history.len());
+            u = u_new;
+            let al = self.options.augmented_lagrangian;
+            let frozen =
+                self.options.friction_bound == FrictionBound::Frozen && self.has_friction();
+            if al.is_none() && !frozen {
+                break (committed, history);
+            }
+            let start = committed.clone();
+            // Outer updates from the converged jumps: Uzawa update of the
+            // normal multipliers, and the frozen friction limits set to the
+            // pressure of this pass.
+            let mut max_change: f64 = 0.0;
+            let mut max_friction_change: f64 = 0.0;
+            let mut max_p: f64 = 0.0;
+            for (((itf, law), states), responses) in self
+                .model
+                .interfaces
+                .iter()
+                .zip(&self.laws)
+                .zip(committed.iter_mut())
+                .zip(self.responses(&u, &start))
+            {
+                for (((el, n), st), r) in itf
+                    .elements
+                    .iter()
+                    .zip(&itf.nodes)
+                    .zip(states.iter_mut())
+                    .zip(&responses)
+                {
+                    let ue = Vector8::from_fn(|i, _| u[2 * n[i / 2] + i % 2]);
+                    for p in &r.points {
+                        max_p = max_p.max(-p.traction.y);
+                    }
+                    if frozen {
+                        let (new, change) = el.update_friction(law, &ue, st);
+                        *st = new;
+                        max_friction_change = max_friction_change.max(change);
+                    }
+                    if al.is_some() {
+                        let (new, change) = el.augment(law, &ue, st);
+                        *st = new;
+                        max_change = max_change.max(change);
+                    }
+                }
+            }
+            let scale = max_p.max(f64::MIN_POSITIVE);
+            let al_done = al.is_none_or(|tol| max_change <= tol * scale);
+            let friction_done = max_friction_change <= self.options.friction_tolerance * scale;
+            if al_done && friction_done {
+                // The last update changed almost nothing: the converged u
+                // stands, with the multipliers and limits it was computed with.
+                break (start, history);
+            }
+            if augmentations >= self.options.max_augmentations {
+                return Err(ElasticError::NotConverged {
+                    fraction: 0.0,
+                    increment: 0.0,
+                    reason: format!(
+                        "after {augmentations} outer updates the multipliers still change by {max_change:.3e} Pa and the friction limits by {max_friction_change:.3e} Pa (largest contact pressure {max_p:.3e} Pa)"
+                    ),
+                    history,
+                });
+            }
+            augmentations += 1;
+        };
+        let states = self.trial_states(&u, &start);
+        Ok((
+            u,
+            states,
+            start,
+            IncrementReport {
+                fraction: 0.0,
+                iterations: total_iterations,
+                max_pass_iterations: max_pass,
+                augmentations,
+                cutbacks: Vec::new(),
+                history,
+            },
+        ))
+    }
+}

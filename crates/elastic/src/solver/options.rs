@@ -1,0 +1,148 @@
+//! Loads, solver settings and what an increment reports.
+
+use tecon_contact::{ContactStatus, FrictionBound};
+
+use crate::error::IterationRecord;
+
+/// The loads of one state, all scaled by the solver's load path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loads {
+    /// Temperature change T − T_ref per element (K); empty means zero.
+    pub delta_t: Vec<f64>,
+    /// Factor on the model's pressures.
+    pub pressure: f64,
+    /// Factor on the model's prescribed displacements.
+    pub displacement: f64,
+    /// Factor on the model's body forces.
+    pub body_force: f64,
+}
+
+impl Loads {
+    /// No load.
+    pub fn zero() -> Self {
+        Loads {
+            delta_t: Vec::new(),
+            pressure: 0.0,
+            displacement: 0.0,
+            body_force: 0.0,
+        }
+    }
+
+    /// Mechanical loads at factor 1 and no temperature change.
+    pub fn mechanical() -> Self {
+        Loads {
+            pressure: 1.0,
+            displacement: 1.0,
+            body_force: 1.0,
+            ..Self::zero()
+        }
+    }
+
+    pub(crate) fn lerp(a: &Loads, b: &Loads, s: f64, n_el: usize) -> Loads {
+        let dt = |l: &Loads, e: usize| l.delta_t.get(e).copied().unwrap_or(0.0);
+        Loads {
+            delta_t: if a.delta_t.is_empty() && b.delta_t.is_empty() {
+                Vec::new()
+            } else {
+                (0..n_el)
+                    .map(|e| dt(a, e) + s * (dt(b, e) - dt(a, e)))
+                    .collect()
+            },
+            pressure: a.pressure + s * (b.pressure - a.pressure),
+            displacement: a.displacement + s * (b.displacement - a.displacement),
+            body_force: a.body_force + s * (b.body_force - a.body_force),
+        }
+    }
+}
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverOptions {
+    /// Converged when ‖R‖ ≤ this × reference force …
+    pub residual_tolerance: f64,
+    /// … and ‖Δu‖ ≤ this × ‖u‖ …
+    pub correction_tolerance: f64,
+    /// … and no status changed in the last iteration.
+    pub max_iterations: usize,
+    /// Increments per `advance` to start with.
+    pub increments: usize,
+    /// Smallest increment (as a fraction of the step) before giving up.
+    pub min_increment: f64,
+    /// A status pattern seen again two iterations later counts as ping-pong;
+    /// after this many the increment is cut.
+    pub max_ping_pong: usize,
+    /// Augmented-Lagrangian outer loop: stop when the largest multiplier
+    /// change is below this × the largest contact pressure (None: pure penalty).
+    pub augmented_lagrangian: Option<f64>,
+    /// Most outer updates (augmented-Lagrangian multipliers and frozen
+    /// friction limits) per increment.
+    pub max_augmentations: usize,
+    /// How Mohr–Coulomb joints take the contact pressure into their slip
+    /// limit. [`FrictionBound::Frozen`] (default): each Newton pass solves
+    /// a Tresca problem (limit from the pressure of the previous pass) —
+    /// convex, symmetric tangent (Cholesky), exact line search on the
+    /// energy — and passes repeat until the limits settle, which gives the
+    /// Mohr–Coulomb answer. [`FrictionBound::Coupled`]: one Newton pass on
+    /// the coupled law with its non-symmetric tangent (LU) and a line search
+    /// on ‖R‖.
+    pub friction_bound: FrictionBound,
+    /// Frozen friction limits: stop the passes when the largest change of a
+    /// limit is below this × the largest contact pressure.
+    pub friction_tolerance: f64,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions {
+            residual_tolerance: 1e-8,
+            correction_tolerance: 1e-8,
+            max_iterations: 30,
+            increments: 1,
+            min_increment: 1.0 / 1024.0,
+            max_ping_pong: 4,
+            augmented_lagrangian: None,
+            max_augmentations: 30,
+            friction_bound: FrictionBound::Frozen,
+            friction_tolerance: 1e-4,
+        }
+    }
+}
+
+/// What one converged increment took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IncrementReport {
+    /// Load fraction reached (within the `advance` call).
+    pub fraction: f64,
+    /// Newton iterations (summed over augmented-Lagrangian passes).
+    pub iterations: usize,
+    /// Most Newton iterations of one pass (each augmented-Lagrangian update
+    /// starts a new pass from the converged state).
+    pub max_pass_iterations: usize,
+    /// Augmented-Lagrangian updates made.
+    pub augmentations: usize,
+    /// Iteration history of the last Newton pass.
+    pub history: Vec<IterationRecord>,
+    /// Failed attempts (and why) cut back before this increment converged.
+    pub cutbacks: Vec<String>,
+}
+
+/// Output of one interface integration point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InterfacePointResult {
+    /// Interface index in the model.
+    pub interface: usize,
+    /// Element index within the interface.
+    pub element: usize,
+    /// Point (0 or 1).
+    pub point: usize,
+    /// Position on the bottom face.
+    pub position: [f64; 2],
+    /// Jump [Δu_t, Δu_n] (m).
+    pub jump: [f64; 2],
+    /// Traction [τ, σ] (Pa), σ > 0 tension.
+    pub traction: [f64; 2],
+    /// Open / stick / slip.
+    pub status: ContactStatus,
+    /// Plastic slip g_s (m).
+    pub slip: f64,
+}
