@@ -8,14 +8,81 @@
 //! 1.0e5, 1.0e6 triangles); the 3×3 Laplace and the 6×6 plane-strain kernels;
 //! fill on one thread (`serial`) and on the rayon pool (`parallel`, batched
 //! kernels with an element-ordered scatter: bitwise identical results).
+//!
+//! P2 (`laplace6x6_p2`): the same squares of 2·n² 6-node triangles (n = 224,
+//! 708: 1.0e5 and 1.0e6 elements, 2.0e5 and 2.0e6 nodes) with a 6×6
+//! isoparametric Laplace kernel written here (3-point rule, exact for
+//! straight-sided triangles), until tecon-fem has its own P2 kernels.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
 use tecon::fem::reference::{ElasticSet, LaplaceSet};
 use tecon::fem::triangle::plane_strain_d;
-use tecon::fem::{AssemblerBuilder, Element, Parallelism};
-use tecon::mesh::rectangle;
+use tecon::fem::{AssemblerBuilder, Element, LocalSystem, Parallelism};
+use tecon::mesh::quadratic::p2_shape_derivatives;
+use tecon::mesh::{rectangle, rectangle_of_order};
+
+/// −∇·(k∇u) = s on 6-node triangles: k∫∇N∇Nᵀ and s∫N by the 3-point rule.
+struct LaplaceP2Set<'a> {
+    nodes: &'a [[f64; 2]],
+    triangles: &'a [[usize; 6]],
+    k: f64,
+    source: f64,
+}
+
+impl Element<6> for LaplaceP2Set<'_> {
+    fn n_elements(&self) -> usize {
+        self.triangles.len()
+    }
+    #[inline]
+    fn dofs(&self, e: usize) -> [usize; 6] {
+        self.triangles[e]
+    }
+    #[inline]
+    fn local(&self, e: usize) -> LocalSystem<6> {
+        let x = self.triangles[e].map(|v| self.nodes[v]);
+        let mut matrix = SMatrix::<f64, 6, 6>::zeros();
+        let mut vector = SVector::<f64, 6>::zeros();
+        for (xi, eta) in [
+            (1.0 / 6.0, 1.0 / 6.0),
+            (2.0 / 3.0, 1.0 / 6.0),
+            (1.0 / 6.0, 2.0 / 3.0),
+        ] {
+            let (dxi, deta) = p2_shape_derivatives(xi, eta);
+            let mut j = Matrix2::zeros();
+            for a in 0..6 {
+                j[(0, 0)] += dxi[a] * x[a][0];
+                j[(0, 1)] += deta[a] * x[a][0];
+                j[(1, 0)] += dxi[a] * x[a][1];
+                j[(1, 1)] += deta[a] * x[a][1];
+            }
+            let det = j.determinant();
+            let inv_t = j.try_inverse().expect("valid element").transpose();
+            let grads: [Vector2<f64>; 6] =
+                std::array::from_fn(|a| inv_t * Vector2::new(dxi[a], deta[a]));
+            let w = det / 6.0;
+            let l1 = 1.0 - xi - eta;
+            let n = [
+                l1 * (2.0 * l1 - 1.0),
+                xi * (2.0 * xi - 1.0),
+                eta * (2.0 * eta - 1.0),
+                4.0 * l1 * xi,
+                4.0 * xi * eta,
+                4.0 * eta * l1,
+            ];
+            for a in 0..6 {
+                vector[a] += w * self.source * n[a];
+                for b in 0..6 {
+                    matrix[(a, b)] += w * self.k * grads[a].dot(&grads[b]);
+                }
+            }
+        }
+        LocalSystem { matrix, vector }
+    }
+}
 
 const SIZES: [usize; 3] = [71, 224, 708];
+const P2_SIZES: [usize; 2] = [224, 708];
 
 fn bench_kernel<const N: usize, E: Element<N>>(
     c: &mut Criterion,
@@ -70,6 +137,24 @@ fn assembly(c: &mut Criterion) {
             d: plane_strain_d(207e9, 0.3),
         };
         bench_kernel(c, "plane_strain6x6", 2 * mesh.n_nodes(), &el, n);
+    }
+    for n in P2_SIZES {
+        let mesh = rectangle_of_order(0.0, 0.0, 1.0, 1.0, n, n, 2).expect("mesh");
+        let set = LaplaceP2Set {
+            nodes: mesh.nodes(),
+            triangles: mesh.triangles6().expect("a P2 mesh"),
+            k: 1.0,
+            source: 1.0,
+        };
+        // The kernel integrates: constants have no energy, u = x has k·area.
+        let local = set.local(0);
+        let x = mesh.triangles6().expect("P2")[0].map(|v| mesh.nodes()[v][0]);
+        let u = SVector::<f64, 6>::from(x);
+        let area = mesh.areas()[0];
+        assert!(local.matrix.row_sum().norm() < 1e-9);
+        assert!(((u.transpose() * local.matrix * u)[0] - area).abs() < 1e-9 * area);
+        assert!((local.vector.sum() - area).abs() < 1e-12);
+        bench_kernel(c, "laplace6x6_p2", mesh.n_nodes(), &set, n);
     }
 }
 

@@ -2,9 +2,44 @@
 //! coincident nodes, and a hash grid for near-point queries.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::error::MeshError;
 use crate::mesh::{Body, COINCIDENCE_TOLERANCE, Point};
+
+/// A hasher for integer keys (node ids, edges): multiply-xor per word and a
+/// shift-xor-multiply finish, so the low bits the table uses are mixed.
+/// Deterministic (no random seed), which the mesh does not rely on.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct IdHasher(u64);
+
+const MIX: u64 = 0x9e37_79b9_7f4a_7c15;
+
+impl Hasher for IdHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    #[inline]
+    fn write_u64(&mut self, i: u64) {
+        self.0 = (self.0.rotate_left(23) ^ i).wrapping_mul(MIX);
+    }
+    #[inline]
+    fn write_usize(&mut self, i: usize) {
+        self.write_u64(i as u64);
+    }
+    #[inline]
+    fn finish(&self) -> u64 {
+        let mut x = self.0;
+        x ^= x >> 32;
+        x = x.wrapping_mul(0xd6e8_feb8_6659_fd93);
+        x ^ (x >> 32)
+    }
+}
+
+/// A hash map keyed by node ids.
+pub(crate) type IdMap<K, V> = HashMap<K, V, BuildHasherDefault<IdHasher>>;
 
 pub(crate) fn unknown<'a>(
     kind: &'static str,
@@ -58,14 +93,17 @@ pub(crate) fn find_bodies<T: AsRef<[usize]>>(
         }
     }
     // Bodies numbered in order of their smallest node.
-    let mut body_of_root = HashMap::new();
+    let mut body_of_root = vec![usize::MAX; n];
+    let mut nb = 0;
     let mut node_body = vec![0; n];
-    for (i, nb) in node_body.iter_mut().enumerate() {
+    for (i, b) in node_body.iter_mut().enumerate() {
         let r = root(&mut parent, i);
-        let next = body_of_root.len();
-        *nb = *body_of_root.entry(r).or_insert(next);
+        if body_of_root[r] == usize::MAX {
+            body_of_root[r] = nb;
+            nb += 1;
+        }
+        *b = body_of_root[r];
     }
-    let nb = body_of_root.len();
     let mut body_elements = vec![Vec::new(); nb];
     let mut nodes = vec![Vec::new(); nb];
     let mut regions = vec![Vec::<usize>::new(); nb];
@@ -120,14 +158,8 @@ pub(crate) fn check_duplicates<T: AsRef<[usize]>>(
     let tol = COINCIDENCE_TOLERANCE * size;
     let all: Vec<usize> = (0..nodes.len()).collect();
     let grid = PointGrid::new(nodes, &all, tol);
-    let mut pairs = Vec::new();
-    for (i, p) in nodes.iter().enumerate() {
-        for j in grid.within(nodes, *p, tol) {
-            if j > i {
-                pairs.push((i, j));
-            }
-        }
-    }
+    let mut pairs = grid.close_pairs(nodes, tol);
+    pairs.sort_unstable();
     if pairs.is_empty() {
         return Ok(());
     }
@@ -197,6 +229,38 @@ impl PointGrid {
                 if dist(nodes[j], p) <= tol {
                     out.push(j);
                 }
+            }
+        }
+        out
+    }
+
+    /// Every pair (i < j) of the grid's points within `tol` of each other, in
+    /// one sweep: a point meets the later points of its own column of cells
+    /// and, through a cursor that only moves forward, those of the next column.
+    pub(crate) fn close_pairs(&self, nodes: &[Point], tol: f64) -> Vec<(usize, usize)> {
+        let s = &self.sorted;
+        let mut out = Vec::new();
+        let mut cursor = 0;
+        for (i, &((kx, ky), a)) in s.iter().enumerate() {
+            let mut check = |b: usize| {
+                if dist(nodes[a], nodes[b]) <= tol {
+                    out.push((a.min(b), a.max(b)));
+                }
+            };
+            for &(k, b) in &s[i + 1..] {
+                if k > (kx, ky + 1) {
+                    break;
+                }
+                check(b);
+            }
+            while cursor < s.len() && s[cursor].0 < (kx + 1, ky - 1) {
+                cursor += 1;
+            }
+            for &(k, b) in &s[cursor..] {
+                if k > (kx + 1, ky + 1) {
+                    break;
+                }
+                check(b);
             }
         }
         out

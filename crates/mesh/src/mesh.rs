@@ -1,8 +1,8 @@
 //! The triangle mesh: nodes, triangles, regions, edge sets, node sets, interfaces.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
-use crate::checks::{check_duplicates, find_bodies, longest_edge_sq, unknown};
+use crate::checks::{IdMap, check_duplicates, find_bodies, longest_edge_sq, unknown};
 use crate::error::MeshError;
 pub use crate::interface::Interface;
 
@@ -55,7 +55,7 @@ pub struct Mesh {
     /// P2 only: corners 0, 1, 2, then the mid nodes of (0,1), (1,2), (2,0).
     pub(crate) triangles6: Option<Vec<[usize; 6]>>,
     /// P2 only: mid node of each edge, keyed by its sorted corner pair.
-    pub(crate) edge_mid: HashMap<(usize, usize), usize>,
+    pub(crate) edge_mid: IdMap<(usize, usize), usize>,
     pub(crate) element_region: Vec<usize>,
     pub(crate) region_names: Vec<String>,
     pub(crate) edge_sets: BTreeMap<String, Vec<[usize; 2]>>,
@@ -169,7 +169,7 @@ impl Mesh {
             nodes,
             triangles,
             triangles6: None,
-            edge_mid: HashMap::new(),
+            edge_mid: IdMap::default(),
             element_region,
             region_names,
             edge_sets: BTreeMap::new(),
@@ -434,8 +434,9 @@ impl Mesh {
         })
     }
 
-    pub(crate) fn directed_edges(&self) -> HashMap<(usize, usize), usize> {
-        let mut map = HashMap::with_capacity(3 * self.triangles.len());
+    pub(crate) fn directed_edges(&self) -> IdMap<(usize, usize), usize> {
+        let mut map = IdMap::default();
+        map.reserve(3 * self.triangles.len());
         for (e, t) in self.triangles.iter().enumerate() {
             for k in 0..3 {
                 map.insert((t[k], t[(k + 1) % 3]), e);

@@ -11,9 +11,7 @@
 //! A P1 mesh is promoted by [`Mesh::to_quadratic`]; a P2 mesh read from a
 //! file is built by [`Mesh::new_quadratic`].
 
-use std::collections::HashMap;
-
-use crate::checks::{check_duplicates, dist, find_bodies, longest_edge_sq};
+use crate::checks::{IdMap, check_duplicates, dist, find_bodies, longest_edge_sq};
 use crate::error::MeshError;
 use crate::mesh::{Interface, Mesh, MeshNotice, Point, signed_area};
 
@@ -218,8 +216,9 @@ impl Mesh {
             }
         }
         // Mid nodes: one per edge, shared by its triangles, never a corner.
-        let mut edge_mid: HashMap<(usize, usize), usize> = HashMap::new();
-        let mut mid_edge: HashMap<usize, (usize, usize)> = HashMap::new();
+        let mut edge_mid: IdMap<(usize, usize), usize> = IdMap::default();
+        edge_mid.reserve(2 * triangles6.len());
+        let mut mid_edge: Vec<(usize, usize)> = vec![(usize::MAX, usize::MAX); n];
         let mut is_corner = vec![false; n];
         for t in &triangles6 {
             for &v in &t[..3] {
@@ -248,14 +247,12 @@ impl Mesh {
                     }
                     _ => {}
                 }
-                match mid_edge.insert(mid, key) {
-                    Some(old) if old != key => {
-                        return Err(bad(format!(
-                            "it is also the mid node of edge ({}, {})",
-                            old.0, old.1
-                        )));
-                    }
-                    _ => {}
+                let old = std::mem::replace(&mut mid_edge[mid], key);
+                if old.0 != usize::MAX && old != key {
+                    return Err(bad(format!(
+                        "it is also the mid node of edge ({}, {})",
+                        old.0, old.1
+                    )));
                 }
             }
         }
@@ -337,14 +334,20 @@ impl Mesh {
                 });
             }
         }
-        let directed = self.directed_edges();
+        // region adjacency only matters when there are arcs to match
+        let directed = if arcs.is_empty() {
+            Default::default()
+        } else {
+            self.directed_edges()
+        };
         let curvable = |a: usize, b: usize| match (directed.get(&(a, b)), directed.get(&(b, a))) {
             (Some(_), None) | (None, Some(_)) => true,
             (Some(&e), Some(&f)) => self.element_region[e] != self.element_region[f],
             (None, None) => false,
         };
         let mut nodes = self.nodes.clone();
-        let mut mids: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut mids: IdMap<(usize, usize), usize> = IdMap::default();
+        mids.reserve(2 * self.triangles.len());
         let mut tri6 = Vec::with_capacity(self.triangles.len());
         for t in &self.triangles {
             let mut t6 = [t[0], t[1], t[2], 0, 0, 0];
