@@ -10,7 +10,8 @@
 //!   slips), backtracking line search, status-aware convergence, ping-pong
 //!   guard, step cut-back, augmented-Lagrangian outer loop, free-body
 //!   detection that names the body.
-//! * Stress recovery: element and nodal stresses, polar components, von Mises.
+//! * Stress recovery: element and nodal stresses, polar components, von Mises;
+//!   for 6-node triangles SPR per region and the ZZ indicator ([`recovery`]).
 //! * [`analytical`]: closed-form solutions used for verification.
 //!
 //! # Glossary
@@ -21,6 +22,7 @@
 //! * σ_rr, σ_θθ, σ_rθ: polar components about a centre; σ_θθ is the hoop stress.
 //! * ⟦u⟧ = [Δu_t, Δu_n]: interface jump; [τ, σ]: interface traction (σ > 0 tension).
 //! * R: residual f_ext − f_int; K_T: consistent tangent.
+//! * σ*: recovered (SPR) stress; η_e: Zienkiewicz–Zhu indicator of element e.
 
 pub mod analytical;
 mod error;
@@ -28,6 +30,7 @@ mod joint;
 mod kernels;
 mod material;
 mod model;
+pub mod recovery;
 mod rotation;
 mod solver;
 

@@ -27,10 +27,13 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, Vector3};
 use tecon_elastic::analytical::LameCylinder;
-use tecon_elastic::{Analysis, Material, gps_triangle6, plane_triangle6, triangle6_stresses};
+use tecon_elastic::recovery::{PointStress, spr_recovery, zz_indicator};
+use tecon_elastic::{
+    Analysis, Material, P2_RULE, gps_triangle6, plane_triangle6, triangle6_stresses,
+};
 use tecon_fem::edge3::Edge3;
 use tecon_fem::quadrature::TriangleRule;
-use tecon_fem::triangle6::{Triangle6, Vector12};
+use tecon_fem::triangle6::{Triangle6, Vector12, shape};
 use tecon_fem::{AssemblerBuilder, CholeskySolver, Dirichlet, Element, LocalSystem, Parallelism};
 
 const R_I: f64 = 1.0;
@@ -156,8 +159,22 @@ fn fitted_slope(h: &[f64], e: &[f64]) -> f64 {
     sxy / sxx
 }
 
-/// Solves the Lamé cylinder on `mesh`: (L2 error of u, energy-norm error).
-fn lame_errors(mesh: &P2Mesh) -> (f64, f64) {
+/// Errors of one Lamé solve.
+struct LameErrors {
+    /// L2 error of u (m).
+    l2: f64,
+    /// Energy-norm error (√J per m).
+    energy: f64,
+    /// L2 error of the in-plane stresses at the integration points (Pa·m).
+    stress_raw: f64,
+    /// L2 error of the SPR-recovered stresses (Pa·m).
+    stress_spr: f64,
+    /// ZZ estimate of the energy-norm error.
+    zz: f64,
+}
+
+/// Solves the Lamé cylinder on `mesh` and measures its errors.
+fn lame_errors(mesh: &P2Mesh) -> LameErrors {
     let m = steel();
     let analysis = Analysis::PlaneStrain;
     let d = analysis.d(&m);
@@ -234,27 +251,121 @@ fn lame_errors(mesh: &P2Mesh) -> (f64, f64) {
         }
     }
     let _ = mesh.gr;
-    (l2.sqrt(), energy.sqrt())
+    // Stresses at the integration points, SPR per group (two groups split
+    // at θ = π/4, so the recovery must work without crossing them), ZZ.
+    let points: Vec<Vec<PointStress>> = geometry
+        .iter()
+        .zip(&mesh.triangles)
+        .map(|(g, t)| {
+            let ue = Vector12::from_fn(|k, _| u[2 * t[k / 2] + k % 2]);
+            triangle6_stresses(g, analysis, &m, &ue, 0.0, &[0.0; 6])
+                .iter()
+                .map(|(s, p)| PointStress {
+                    x: g.position(p.xi),
+                    weight: p.weight,
+                    stress: *s,
+                })
+                .collect()
+        })
+        .collect();
+    let groups: Vec<usize> = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let c = mesh.nodes[t[4]];
+            usize::from(c[1] > c[0])
+        })
+        .collect();
+    let recovered = spr_recovery(&mesh.nodes, &mesh.triangles, &groups, &points);
+    let compliance = vec![d.try_inverse().unwrap(); geometry.len()];
+    let eta = zz_indicator(&geometry, &compliance, &points, &recovered);
+    let (mut raw, mut spr) = (0.0, 0.0);
+    for (e, g) in geometry.iter().enumerate() {
+        for (q, p) in g.points(P2_RULE).enumerate() {
+            let x = g.position(p.xi);
+            let r = x[0].hypot(x[1]);
+            let (c, s) = (x[0] / r, x[1] / r);
+            let (srr, stt) = (exact.sigma_rr(r), exact.sigma_tt(r));
+            let ex = [
+                srr * c * c + stt * s * s,
+                srr * s * s + stt * c * c,
+                (srr - stt) * s * c,
+            ];
+            let n = shape(p.xi);
+            for k in 0..3 {
+                let star: f64 = (0..6).map(|a| n[a] * recovered[e][a][k]).sum();
+                raw += p.weight * (points[e][q].stress[k] - ex[k]).powi(2);
+                spr += p.weight * (star - ex[k]).powi(2);
+            }
+        }
+    }
+    LameErrors {
+        l2: l2.sqrt(),
+        energy: energy.sqrt(),
+        stress_raw: raw.sqrt(),
+        stress_spr: spr.sqrt(),
+        zz: eta.iter().map(|v| v * v).sum::<f64>().sqrt(),
+    }
 }
 
 #[test]
 fn p2_lame_cylinder_converges_at_order_3_in_l2_and_2_in_energy() {
     let (mut hs, mut l2s, mut ens) = (Vec::new(), Vec::new(), Vec::new());
-    println!("  n_r  elements     L2 error u (m)   energy error");
+    println!(
+        "  n_r  elements     L2 error u (m)   energy error   stress raw   stress SPR   ZZ / energy"
+    );
+    let (mut raws, mut sprs, mut eff) = (Vec::new(), Vec::new(), Vec::new());
     // n_θ = 4 n_r: elements of aspect ≈ 1 at the bore. The coarsest
     // meshes converge faster than h³ (local rates 3.2–3.4 from n_r = 2 with
     // n_θ = 2 n_r, measured): the level n_r = 2 is left out and the rates
     // 3.19, 3.08, 3.02 of the levels kept approach 3.
     for nr in [4usize, 8, 16, 32] {
         let mesh = quarter_annulus(nr, 4 * nr);
-        let (l2, en) = lame_errors(&mesh);
-        println!("{nr:5} {:9} {l2:16.6e} {en:14.6e}", mesh.triangles.len());
+        let LameErrors {
+            l2,
+            energy: en,
+            stress_raw,
+            stress_spr,
+            zz,
+        } = lame_errors(&mesh);
+        println!(
+            "{nr:5} {:9} {l2:16.6e} {en:14.6e} {stress_raw:12.4e} {stress_spr:12.4e} {:13.3}",
+            mesh.triangles.len(),
+            zz / en
+        );
+        raws.push(stress_raw);
+        sprs.push(stress_spr);
+        eff.push(zz / en);
         hs.push(1.0 / nr as f64);
         l2s.push(l2);
         ens.push(en);
     }
     let (p_l2, p_en) = (fitted_slope(&hs, &l2s), fitted_slope(&hs, &ens));
-    println!("fitted orders: L2 {p_l2:.3}, energy {p_en:.3}");
+    let (p_raw, p_spr) = (fitted_slope(&hs, &raws), fitted_slope(&hs, &sprs));
+    println!(
+        "fitted orders: L2 {p_l2:.3}, energy {p_en:.3}, stress raw {p_raw:.3}, stress SPR {p_spr:.3}"
+    );
+    // Raw stresses converge as h². SPR (quadratic fits of the degree-4
+    // points, boundary patches included) measured 2.33: faster than raw,
+    // not the interior h³; the recovered error is 3.9× smaller on the finest
+    // mesh. The ZZ estimate is asymptotically exact: effectivity 0.77, 0.84,
+    // 0.91, 0.95, its distance to 1 falling at every refinement.
+    assert!((p_raw - 2.0).abs() < 0.2, "raw stress order {p_raw}");
+    assert!(p_spr > p_raw + 0.2, "SPR order {p_spr} vs raw {p_raw}");
+    let last = eff.len() - 1;
+    assert!(
+        sprs[last] < 0.3 * raws[last],
+        "SPR {} vs raw {}",
+        sprs[last],
+        raws[last]
+    );
+    for w in eff.windows(2) {
+        assert!(
+            (1.0 - w[1]).abs() < (1.0 - w[0]).abs(),
+            "effectivities {eff:?}"
+        );
+    }
+    assert!((eff[last] - 1.0).abs() < 0.1, "ZZ effectivity {eff:?}");
     assert!((p_l2 - 3.0).abs() < 0.2, "L2 order {p_l2}");
     assert!((p_en - 2.0).abs() < 0.2, "energy order {p_en}");
     // The solve is the right problem: the finest L2 error is below 1e-6 of
