@@ -312,6 +312,7 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                 "area": section.area,
                 "centroid": section.centroid,
                 "polar_moment": section.polar_moment(),
+                "properties": section.properties(),
                 "compression": sol.compression,
                 "interior": interior,
                 "study": study.iter().map(|(m, j, d, o)| json!({"n": m, "torsional_rigidity": j, "difference": d, "observed_order": o})).collect::<Vec<_>>(),
@@ -332,7 +333,22 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                     String::new()
                 }
             );
+            let pr = section.properties();
             println!("area               {:.15e}", section.area);
+            println!(
+                "centroid           ({:.12e}, {:.12e})",
+                pr.centroid[0], pr.centroid[1]
+            );
+            println!(
+                "second moments     I_xx = {:.12e}  I_yy = {:.12e}  I_xy = {:.12e} (about the centroid)",
+                pr.ixx, pr.iyy, pr.ixy
+            );
+            println!(
+                "principal axes     I_11 = {:.12e}  I_22 = {:.12e}  at φ = {:.6}° (I_11 axis from x)",
+                pr.i11,
+                pr.i22,
+                pr.phi.to_degrees()
+            );
             println!(
                 "torsional rigidity J = {:.15e}   (T = G θ J)",
                 sol.torsional_rigidity

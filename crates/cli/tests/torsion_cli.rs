@@ -209,6 +209,11 @@ fn tube_is_exact_and_reports_the_hole_constant() {
     let c = v["holes"][0]["stress_function"].as_f64().unwrap();
     assert!((c - 0.32).abs() < 1e-12, "C {c}");
     assert!((v["max_shear_stress"].as_f64().unwrap() - 1.0).abs() < 1e-11);
+    let ixx = v["properties"]["ixx"].as_f64().unwrap();
+    assert!(
+        (ixx - PI * (1.0 - 0.6f64.powi(4)) / 4.0).abs() < 1e-14,
+        "I_xx {ixx}"
+    );
 }
 
 #[test]

@@ -399,6 +399,29 @@ impl Junction {
     }
 }
 
+/// Geometric section properties (about the centroid; x, y the input axes).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SectionProperties {
+    /// area A
+    pub area: f64,
+    /// centroid (x_c, y_c)
+    pub centroid: V2,
+    /// I_xx = ∫ (y − y_c)² dA
+    pub ixx: f64,
+    /// I_yy = ∫ (x − x_c)² dA
+    pub iyy: f64,
+    /// I_xy = ∫ (x − x_c)(y − y_c) dA
+    pub ixy: f64,
+    /// polar moment I_xx + I_yy
+    pub polar: f64,
+    /// larger principal moment I_11
+    pub i11: f64,
+    /// smaller principal moment I_22
+    pub i22: f64,
+    /// angle of the I_11 axis from x, counter-clockwise, in (−π/2, π/2] (rad)
+    pub phi: f64,
+}
+
 /// Where a point lies relative to a section.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PointLocation {
@@ -561,6 +584,28 @@ impl Section {
     /// ∮ over every boundary curve of Ω (holes clockwise).
     fn integrate_all(&self, f: &dyn Fn(V2, V2) -> f64) -> f64 {
         self.integrate(f) + self.holes.iter().map(|h| h.integrate(f)).sum::<f64>()
+    }
+
+    /// Area, centroid and second moments of Ω (holes subtracted) by Green's
+    /// theorem on the boundary, about the centroid, with the principal axes.
+    pub fn properties(&self) -> SectionProperties {
+        let c = self.centroid;
+        let ixx = self.integrate_all(&|x, d| -(x[1] - c[1]).powi(3) / 3.0 * d[0]);
+        let iyy = self.integrate_all(&|x, d| (x[0] - c[0]).powi(3) / 3.0 * d[1]);
+        let ixy = self.integrate_all(&|x, d| 0.5 * (x[0] - c[0]).powi(2) * (x[1] - c[1]) * d[1]);
+        let mean = 0.5 * (ixx + iyy);
+        let rad = (0.25 * (ixx - iyy).powi(2) + ixy * ixy).sqrt();
+        SectionProperties {
+            area: self.area,
+            centroid: c,
+            ixx,
+            iyy,
+            ixy,
+            polar: ixx + iyy,
+            i11: mean + rad,
+            i22: mean - rad,
+            phi: 0.5 * (-2.0 * ixy).atan2(ixx - iyy),
+        }
     }
 
     /// The boundary curves: the outer chain (this section) first, then the holes.

@@ -270,3 +270,33 @@ fn self_intersection_check_scales_to_many_vertices() {
         Ok(_) => panic!("a crossing polygon was accepted"),
     }
 }
+
+#[test]
+fn section_properties_against_closed_forms() {
+    // rectangle b × h: I_xx = b h³/12, I_yy = h b³/12; rotated by 30°: the principal
+    // moments are unchanged and the I_11 axis turns with it
+    let r = sections::rectangle(1.0, 2.0).unwrap();
+    let p = r.properties();
+    assert!((p.ixx - 8.0 / 12.0).abs() < 1e-14 && (p.iyy - 2.0 / 12.0).abs() < 1e-14);
+    assert!(p.ixy.abs() < 1e-15 && p.phi.abs() < 1e-14);
+    let rr = r
+        .rotated(PI / 6.0)
+        .unwrap()
+        .translated([3.0, -1.0])
+        .unwrap();
+    let q = rr.properties();
+    assert!((q.i11 - p.ixx).abs() < 1e-13 && (q.i22 - p.iyy).abs() < 1e-13);
+    assert!((q.phi - PI / 6.0).abs() < 1e-13, "phi {}", q.phi);
+    assert!((q.centroid[0] - 3.0).abs() < 1e-13 && (q.centroid[1] + 1.0).abs() < 1e-13);
+    // tube: I_xx = I_yy = π(ro⁴ − ri⁴)/4; box: (b h³ − b_i h_i³)/12
+    let t = sections::tube(1.0, 0.6).unwrap().properties();
+    let e = PI * (1.0 - 0.6f64.powi(4)) / 4.0;
+    assert!((t.ixx - e).abs() < 1e-14 && (t.iyy - e).abs() < 1e-14);
+    assert!((t.polar - sections::tube(1.0, 0.6).unwrap().polar_moment()).abs() < 1e-14);
+    let b = sections::hollow_rectangle(2.0, 1.0, 0.1, 0.05)
+        .unwrap()
+        .properties();
+    assert!((b.area - (2.0 - 1.9 * 0.8)).abs() < 1e-14);
+    assert!((b.ixx - (2.0 - 1.9 * 0.8f64.powi(3)) / 12.0).abs() < 1e-14);
+    assert!((b.iyy - (8.0 - 0.8 * 1.9f64.powi(3)) / 12.0).abs() < 1e-14);
+}
