@@ -45,6 +45,10 @@
 //! * Interface flux sign: `q = h_c (T_top − T_bottom)` is heat flowing from
 //!   the top body (left of the bottom face 1→2) into the bottom body.
 //! * Boundary data are constant in time.
+//! * Element order follows the mesh: on a P2 mesh (`Mesh::order() == 2`)
+//!   the model assembles 6-node triangles, 3-node edges (mid node from
+//!   `Mesh::edge_mid_node`) and 3-pair interfaces (`Interface::mid_nodes`);
+//!   nothing else changes in its use.
 //!
 //! # Glossary
 //! * T: temperature (nodal); T∞: ambient; T₀: initial; T_ref,e: element

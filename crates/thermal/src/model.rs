@@ -214,6 +214,10 @@ impl<'m> ThermalModel<'m> {
 
     /// Sets the mechanical state (gap, pressure) of each integration point of
     /// interface `name`, read by its conductance law at the next assembly.
+    ///
+    /// On a P2 mesh (3-pair elements) the two states of an element are those
+    /// of its corner pairs (1, 4) and (2, 3); the mid pair's law sees their
+    /// mean (gap and pressure averaged).
     pub fn set_interface_state(
         &mut self,
         name: &str,
