@@ -181,7 +181,7 @@ fn error_control_is_right_or_flagged() {
         ),
     ];
     for (sec, exact, tau) in cases {
-        let c = solve_to_tolerance(&sec, &Options::default(), tol, 2048).unwrap();
+        let c = solve_to_tolerance(&sec, &Options::default(), tol, 1024).unwrap();
         let ej = rel(c.solution.torsional_rigidity, exact);
         eprintln!(
             "{}: n {} J err {ej:.1e} est {:.1e} converged {}",
