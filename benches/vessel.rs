@@ -45,5 +45,35 @@ fn vessel(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, vessel);
+/// One-way against staggered two-way coupling with the contact conductance
+/// (`--conductance contact --coupling two-way`), paper mesh and the default
+/// mesh (level 2).
+fn vessel_two_way(c: &mut Criterion) {
+    let mut g = c.benchmark_group("vessel_coupling");
+    g.sample_size(10);
+    for (name, spec) in [
+        ("paper", VesselMeshSpec::paper()),
+        ("level2", tecon_cli::vessel::default_mesh()),
+    ] {
+        let one = VesselOptions {
+            mesh: spec,
+            contact_conductance: true,
+            quiet: true,
+            ..Default::default()
+        };
+        let two = VesselOptions {
+            two_way: Some(Default::default()),
+            ..one.clone()
+        };
+        g.bench_with_input(BenchmarkId::new("one_way", name), &one, |b, o| {
+            b.iter(|| analyse(o).expect("vessel run"))
+        });
+        g.bench_with_input(BenchmarkId::new("two_way", name), &two, |b, o| {
+            b.iter(|| analyse(o).expect("vessel run"))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, vessel, vessel_two_way);
 criterion_main!(benches);

@@ -57,6 +57,8 @@ pub struct Case {
     /// `[output]`: times, probes, optional files.
     #[serde(default)]
     pub output: OutputSection,
+    /// `[coupling]`: one-way (default) or staggered two-way.
+    pub coupling: Option<crate::conductance::CouplingSection>,
     /// The file the case was read from (used in error messages); empty for
     /// a case parsed from a string.
     #[serde(skip)]
@@ -158,8 +160,9 @@ pub struct InterfaceSection {
     pub bottom: Option<String>,
     /// Edge set of the top face.
     pub top: Option<String>,
-    /// Thermal conductance h_c, W/(m² K); absent: adiabatic.
-    pub conductance: Option<f64>,
+    /// Thermal conductance: h_c in W/(m² K), or an `[interface.conductance]`
+    /// table with a law; absent: adiabatic.
+    pub conductance: Option<toml::Value>,
     /// The joint law.
     pub joint: Option<JointSection>,
 }
@@ -481,6 +484,26 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
             .max()
             .unwrap_or(0)
     );
+    if let Some(c) = &outcome.coupling {
+        summary["coupling"] = crate::vessel::coupling_json(c);
+        summary["coupling"]["per_output"] = json!(
+            outcome
+                .states
+                .iter()
+                .map(|r| r.coupling_iterations)
+                .collect::<Vec<_>>()
+        );
+        if c.unsettled > 0 {
+            summary["notes"].as_array_mut().map(|n| {
+                n.push(json!(format!(
+                    "two-way coupling: {} blocks did not settle within the iteration limit",
+                    c.unsettled
+                )))
+            });
+        }
+    } else {
+        summary["coupling"] = json!({ "mode": "one-way" });
+    }
     summary["seconds"] = json!(start.elapsed().as_secs_f64());
     Ok(CaseResult {
         mesh,

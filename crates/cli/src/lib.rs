@@ -8,7 +8,9 @@
 
 pub mod builtin;
 pub mod case;
+pub mod conductance;
 pub mod driver;
+pub mod duplex;
 pub mod mesh_cmd;
 pub mod plot;
 pub mod setup;

@@ -14,12 +14,16 @@ use tecon_elastic::{
 use tecon_mesh::{
     Mesh, RingLayer, VesselGeometry, layered_annulus, read_msh, rectangle, vessel_mesh,
 };
-use tecon_thermal::{EdgeBc, ThermalModel, ThetaScheme, TimeSchedule};
+use tecon_thermal::{EdgeBc, InterfaceQuadrature, ThermalModel, ThetaScheme, TimeSchedule};
+
+use crate::conductance::Conductance;
 
 use crate::case::{
     AnalysisName, Case, CliResult, ComponentName, JointSection, MaterialSection, Scheme, err,
 };
-use crate::driver::{LoadFactors, Procedure, Setup, Stage, StageTemperature, ThermalSetup};
+use crate::driver::{
+    Coupling, LoadFactors, Procedure, Setup, Stage, StageTemperature, ThermalSetup,
+};
 
 pub(crate) fn positive(file: &Path, key: &str, v: f64) -> CliResult<f64> {
     if v.is_finite() && v > 0.0 {
@@ -431,8 +435,8 @@ pub(crate) fn declare_interfaces(case: &Case, mesh: &mut Mesh) -> CliResult<()> 
             }
             _ => return Err(err(f, format!("{key}: give both bottom and top edge sets"))),
         }
-        if let Some(h) = i.conductance {
-            positive(f, &format!("{key}.conductance"), h)?;
+        if let Some(h) = &i.conductance {
+            crate::conductance::parse(f, &key, h)?;
             if case.thermal.is_none() {
                 return Err(err(
                     f,
@@ -563,9 +567,15 @@ fn thermal_setup<'m>(
             .add_edge_bc(&b.edges, bc)
             .map_err(|e| err(f, format!("{key}: {e}")))?;
     }
-    for i in &case.interface {
-        match i.conductance {
-            Some(h) => model.set_interface_conductance(&i.name, h),
+    for (k, i) in case.interface.iter().enumerate() {
+        let key = format!("interface[{k}] ('{}')", i.name);
+        match &i.conductance {
+            Some(h) => match crate::conductance::parse(f, &key, h)? {
+                Conductance::Constant(h) => model.set_interface_conductance(&i.name, h),
+                Conductance::Law(law) => {
+                    model.set_interface_law(&i.name, law, InterfaceQuadrature::Nodal)
+                }
+            },
             None => model.set_interface_adiabatic(&i.name),
         }
         .map_err(|e| err(f, format!("interface '{}': {e}", i.name)))?;
@@ -775,6 +785,22 @@ pub fn prepare<'m>(case: &Case, mesh: &'m Mesh) -> CliResult<Prepared<'m>> {
             temperature: StageTemperature::HoldLast,
         });
     }
+    let coupling = crate::conductance::coupling(f, case.coupling.as_ref(), thermal.is_some())?;
+    if let (Coupling::TwoWay(_), Some(th)) = (coupling, &thermal)
+        && matches!(th.procedure, Procedure::Held)
+    {
+        return Err(err(
+            f,
+            "coupling.mode = \"two-way\": needs heat conduction (thermal boundary conditions or a schedule), not a held initial field",
+        ));
+    }
+    let coupled_interfaces = case
+        .interface
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| i.conductance.is_some())
+        .map(|(k, i)| (i.name.clone(), k))
+        .collect();
     Ok(Prepared {
         setup: Setup {
             mesh,
@@ -784,6 +810,8 @@ pub fn prepare<'m>(case: &Case, mesh: &'m Mesh) -> CliResult<Prepared<'m>> {
             stages,
             progress: case.progress,
             verbose: case.verbose,
+            coupling,
+            coupled_interfaces,
         },
         joints,
         augmented_lagrangian: al,

@@ -96,6 +96,18 @@ pub enum ThermalError {
         /// The offending value.
         value: f64,
     },
+    /// A parameter of a conductance law is out of range.
+    #[error("conductance law '{law}': {parameter} must be {requirement}, got {value}")]
+    InvalidLawParameter {
+        /// The law.
+        law: &'static str,
+        /// The parameter (as named in case files).
+        parameter: &'static str,
+        /// What is required.
+        requirement: &'static str,
+        /// The offending value.
+        value: f64,
+    },
     /// An interface of the mesh was given neither a conductance law nor
     /// declared adiabatic.
     #[error(

@@ -56,6 +56,9 @@
 //! * k: conductivity, W/(m K); ρ: density; c: specific heat; ρc:
 //!   volumetric capacity; a = k/(ρc): diffusivity.
 //! * h: film coefficient, W/(m² K); h_c: interface conductance, W/(m² K);
+//!   p: contact pressure; g: gap; g₀: temperature-jump distance; k_g: gas
+//!   conductivity; h₀, p₀, m: power law; σ, m, H_c, k_s: Mikic/Yovanovich;
+//!   ε: emissivity; σ_SB: Stefan–Boltzmann constant;
 //!   q: heat flux, W/m² (`q = −k∇T` in elements, `q = h_c ⟦T⟧` at interfaces).
 //! * ⟦T⟧ = T_top − T_bottom: temperature jump across an interface;
 //!   b = [−N₁, −N₂, N₂, N₁]: the scalar jump operator.
@@ -86,7 +89,10 @@ mod stepper;
 mod system;
 
 pub use bc::EdgeBc;
-pub use conductance::{ConductanceLaw, ConstantConductance, InterfacePointState};
+pub use conductance::{
+    ConductanceLaw, ConstantConductance, ContactPart, GasGap, InterfacePointState,
+    JointConductance, MikicYovanovich, PowerLaw, Radiation, STEFAN_BOLTZMANN,
+};
 pub use error::ThermalError;
 pub use initial::{BorderRule, InitialTemperature};
 pub use material::{CapacityKind, Material};

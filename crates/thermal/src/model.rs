@@ -242,6 +242,27 @@ impl<'m> ThermalModel<'m> {
         }
     }
 
+    /// The conductance h_c at each integration point of interface `name`
+    /// in its current states (what the next assembly uses; the default
+    /// state where none was set). Errors if the interface has no law.
+    pub fn interface_conductance_values(&self, name: &str) -> Result<Vec<[f64; 2]>, ThermalError> {
+        let n = self.mesh.interface(name)?.elements.len();
+        match self.interfaces.get(name) {
+            Some(InterfaceSpec::Law { law, states, .. }) => Ok((0..n)
+                .map(|e| {
+                    let st = states
+                        .as_ref()
+                        .and_then(|s| s.get(e).copied())
+                        .unwrap_or([InterfacePointState::default(); 2]);
+                    [law.conductance(&st[0]), law.conductance(&st[1])]
+                })
+                .collect()),
+            _ => Err(ThermalError::MissingInterfaceLaw {
+                interface: name.into(),
+            }),
+        }
+    }
+
     /// Initial temperature of every region not given one explicitly.
     pub fn set_initial_default(&mut self, value: f64) -> Result<&mut Self, ThermalError> {
         check_finite("default", value)?;

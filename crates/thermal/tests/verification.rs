@@ -346,7 +346,8 @@ fn pressure_dependent_conductance_law_plugs_in() {
     let states = vec![
         [InterfacePointState {
             gap: 0.0,
-            pressure: p
+            pressure: p,
+            temperature: 0.0,
         }; 2];
         n
     ];

@@ -1,0 +1,211 @@
+//! Two-way thermoelastic contact: the staggered coupling against the
+//! one-dimensional duplex-tube solution, non-uniqueness of the steady
+//! state, and the conductance and coupling errors of case files.
+//!
+//! Reference: `tecon_cli::duplex` (log temperatures, the jump Q R_c, Lamé
+//! with thermal strain, a scalar fixed point p = g(h(p))).
+//!
+//! ```text
+//!   quarter section, symmetry on θ = 0 and θ = 90°
+//!   r = 0.05 (100 °C) ── inner tube ── 0.06 (joint, h = 1500 (p/1 MPa)^0.95)
+//!                    ── outer tube ── 0.08 (20 °C);   T_ref = 20 °C
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use tecon_cli::case;
+use tecon_cli::duplex::DuplexTube;
+
+fn cases_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/cases")
+}
+
+fn tube(t_inner: f64, t_outer: f64, interference: f64) -> DuplexTube {
+    DuplexTube {
+        a: 0.05,
+        c: 0.06,
+        b: 0.08,
+        conductivity: [40.0; 2],
+        youngs_modulus: [200e9; 2],
+        poisson_ratio: [0.3; 2],
+        expansion: [12e-6; 2],
+        t_inner,
+        t_outer,
+        t_ref: 20.0,
+        interference,
+    }
+}
+
+/// The shipped duplex-tube case, two-way, against the 1D fixed point:
+/// contact pressure (observed 1.1e-4 relative) and the joint temperatures
+/// on both sides (FE nodal values at the joint).
+#[test]
+fn duplex_tube_two_way_matches_the_one_dimensional_solution() {
+    let c = case::load(cases_dir().join("duplex_tube.toml")).unwrap();
+    let res = case::execute(&c, &cases_dir()).unwrap();
+    let law = |p: f64| 1500.0 * (p.max(0.0) / 1e6).powf(0.95);
+    let states = tube(100.0, 20.0, 0.0).steady_states(&law, 100e6, 200);
+    assert_eq!(states.len(), 1, "{states:?}");
+    let exact = states[0];
+    assert!(exact.stable);
+    let v = &res.summary["times"][0]["interfaces"]["tube_in_tube_out"];
+    let p = v["contact_pressure_mean"].as_f64().unwrap();
+    let rel = p / exact.state.pressure - 1.0;
+    eprintln!(
+        "duplex: p FE {p:.6e} Pa, 1D {:.6e} Pa ({rel:+.2e}); h = {:.1} W/m²K",
+        exact.state.pressure, exact.conductance
+    );
+    assert!(rel.abs() < 2e-3, "contact pressure {rel:+.3e}");
+    // joint temperatures: nodes on r = c, by body
+    let t = res.states[0].temperature.as_ref().unwrap();
+    let (mut t_in, mut t_out) = (Vec::new(), Vec::new());
+    for (i, x) in res.mesh.nodes().iter().enumerate() {
+        if (x[0].hypot(x[1]) - 0.06).abs() < 1e-9 {
+            if res.mesh.node_bodies()[i] == res.mesh.node_bodies()[0] {
+                t_in.push(t[i]);
+            } else {
+                t_out.push(t[i]);
+            }
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (ti, to) = (mean(&t_in), mean(&t_out));
+    eprintln!(
+        "duplex: joint T FE {ti:.4} / {to:.4} °C, 1D {:.4} / {:.4} °C",
+        exact.state.t_joint_inner, exact.state.t_joint_outer
+    );
+    assert!(!t_in.is_empty() && !t_out.is_empty());
+    assert!((ti - exact.state.t_joint_inner).abs() < 0.02, "{ti}");
+    assert!((to - exact.state.t_joint_outer).abs() < 0.02, "{to}");
+    // the coupling iterated and settled
+    let cpl = &res.summary["coupling"];
+    assert_eq!(cpl["mode"], "two-way");
+    assert!(cpl["iterations"].as_u64().unwrap() > 2, "{cpl}");
+    assert_eq!(cpl["unsettled_blocks"], 0);
+}
+
+/// Heat flowing from the outer tube into the inner one lowers the contact
+/// pressure; with a steep conductance h = 100 + 1000 (p / 4 MPa)^6 and a
+/// 40 µm interference there are three steady states (observed 1.52, 3.86,
+/// 8.15 MPa): the outer two stable (g' < 1), the middle one unstable.
+#[test]
+fn steep_conductance_gives_three_steady_states() {
+    let law = |p: f64| 100.0 + 1000.0 * (p.max(0.0) / 4e6).powi(6);
+    let s = tube(20.0, 60.0, 40e-6).steady_states(&law, 40e6, 4000);
+    let ps: Vec<f64> = s.iter().map(|x| x.state.pressure / 1e6).collect();
+    eprintln!(
+        "steady states (MPa): {ps:?}, slopes {:?}",
+        s.iter().map(|x| x.slope).collect::<Vec<_>>()
+    );
+    assert_eq!(s.len(), 3, "{ps:?}");
+    assert!(s[0].stable && !s[1].stable && s[2].stable);
+    // each is a fixed point: g(h(p)) = p
+    for x in &s {
+        let g = tube(20.0, 60.0, 40e-6).at(law(x.state.pressure)).pressure;
+        assert!((g / x.state.pressure - 1.0).abs() < 1e-9);
+    }
+    // with heat flowing outward the same joint has one state
+    let one = tube(60.0, 20.0, 40e-6).steady_states(&law, 40e6, 4000);
+    assert_eq!(one.len(), 1);
+}
+
+fn error_of(text: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, text).unwrap();
+    match case::load(&path) {
+        Err(e) => e.to_string(),
+        Ok(c) => case::execute(&c, dir.path())
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default(),
+    }
+}
+
+fn duplex_edited(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(cases_dir().join("duplex_tube.toml")).unwrap();
+    assert!(text.contains(from), "{from}");
+    text.replacen(from, to, 1)
+}
+
+#[test]
+fn conductance_and_coupling_errors_are_named() {
+    let e = error_of(&duplex_edited("h0 = 1500.0", "h0 = -1500.0"));
+    assert!(
+        e.contains("bad.toml") && e.contains("h0") && e.contains("-1500"),
+        "{e}"
+    );
+    let e = error_of(&duplex_edited(
+        "law = \"power\"\nh0 = 1500.0\np0 = 1e6\nexponent = 0.95",
+        "law = \"gap\"",
+    ));
+    assert!(e.contains("gas_conductivity"), "{e}");
+    let e = error_of(&duplex_edited(
+        "exponent = 0.95",
+        "exponent = 0.95\nroughness = 1e-6",
+    ));
+    assert!(
+        e.contains("roughness") && e.contains("not a parameter"),
+        "{e}"
+    );
+    // two-way without heat conduction
+    let text = std::fs::read_to_string(cases_dir().join("lame.toml")).unwrap();
+    let e = error_of(&format!("{text}\n[coupling]\nmode = \"two-way\"\n"));
+    assert!(
+        e.contains("coupling.mode") && e.contains("heat conduction"),
+        "{e}"
+    );
+}
+
+/// The published vessel on the paper mesh with the contact conductance:
+/// two-way, the lift-off under the weld lowers the core-side temperature
+/// at θ = 0 early on; the final prestress hardly changes.
+#[test]
+fn vessel_two_way_cools_the_core_under_the_weld() {
+    use tecon_cli::vessel::{VesselOptions, analyse, summary};
+    let base = VesselOptions {
+        mesh: tecon_mesh::VesselMeshSpec::paper(),
+        contact_conductance: true,
+        quiet: true,
+        ..Default::default()
+    };
+    let one = analyse(&base).unwrap();
+    let two = analyse(&VesselOptions {
+        two_way: Some(Default::default()),
+        ..base.clone()
+    })
+    .unwrap();
+    // core node on the joint at θ = 0
+    let rc = base.geometry.interface_radius();
+    let core = one.mesh.node_bodies()[0];
+    let node = (0..one.mesh.n_nodes())
+        .find(|&i| {
+            let x = one.mesh.nodes()[i];
+            one.mesh.node_bodies()[i] == core && (x[0] - rc).abs() < 1e-9 && x[1].abs() < 1e-12
+        })
+        .unwrap();
+    let at = |r: &tecon_cli::vessel::VesselRun, t: f64| {
+        let s = r
+            .results
+            .iter()
+            .find(|s| (s.time - t).abs() < 1e-9)
+            .unwrap();
+        s.temperature.as_ref().unwrap()[node]
+    };
+    let (t10, t10b) = (at(&one, 10.0), at(&two, 10.0));
+    eprintln!(
+        "core side at θ = 0, 10 s: one-way {t10:.3} °C, two-way {t10b:.3} °C; 60 s: {:.3} / {:.3}",
+        at(&one, 60.0),
+        at(&two, 60.0)
+    );
+    assert!(t10b < t10 - 0.5, "{t10} vs {t10b}");
+    let (v1, v2) = (summary(&one), summary(&two));
+    let k = "/final/hoop_mean/layer_outer";
+    let (a, b) = (
+        v1.pointer(k).unwrap().as_f64().unwrap(),
+        v2.pointer(k).unwrap().as_f64().unwrap(),
+    );
+    eprintln!("layer outer hoop: one-way {a:.5e}, two-way {b:.5e}");
+    assert!((b / a - 1.0).abs() < 0.02);
+    assert_eq!(v2["coupling"]["unsettled_blocks"], 0);
+}
