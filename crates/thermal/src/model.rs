@@ -523,6 +523,7 @@ impl<'m> ThermalModel<'m> {
                     let mid_state = InterfacePointState {
                         gap: 0.5 * (st[0].gap + st[1].gap),
                         pressure: 0.5 * (st[0].pressure + st[1].pressure),
+                        temperature: 0.5 * (st[0].temperature + st[1].temperature),
                     };
                     let h = [
                         law.conductance(&st[0]),
