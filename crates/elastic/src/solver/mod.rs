@@ -78,6 +78,17 @@ impl<'a> StaticSolver<'a> {
     /// Sets up the pattern, the bulk stiffness and the constraints.
     pub fn new(model: &'a ElasticModel<'a>, options: SolverOptions) -> Result<Self, ElasticError> {
         let mesh = model.mesh;
+        if mesh.order() != 1 {
+            // Never silently wrong: on a P2 mesh the linear path would see
+            // the corners only and leave the mid nodes without stiffness.
+            return Err(ElasticError::Input {
+                what: "mesh".into(),
+                message: format!(
+                    "the elastic solver assembles linear (3-node) triangles only and this mesh is of order {} (6-node triangles); the P2 kernels (plane_triangle6, gps_triangle6, QuadraticInterfaceElement) are not assembled by the solver yet: use an order-1 mesh",
+                    mesh.order()
+                ),
+            });
+        }
         let materials = model.element_materials()?;
         let n = model.n_dofs();
         let bulk_set = Bulk {
