@@ -212,7 +212,7 @@ pub struct State {
     pub stress: StressField,
     /// Interface points (all interfaces, in model order).
     pub interface: Vec<InterfacePointResult>,
-    /// Most Newton iterations of one pass in any increment.
+    /// Most Newton iterations of any increment, counting all its passes.
     pub max_iterations: usize,
     /// Most augmented-Lagrangian updates in any increment.
     pub max_augmentations: usize,
@@ -552,11 +552,7 @@ impl<'s> Contact<'s> {
             eps_zz: self.solver.eps_zz(),
             stress: self.solver.stresses(),
             interface: self.solver.interface_results(),
-            max_iterations: reports
-                .iter()
-                .map(|r| r.max_pass_iterations)
-                .max()
-                .unwrap_or(0),
+            max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
             max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
             coupling_iterations: 0,
         })
@@ -567,14 +563,20 @@ impl<'s> Contact<'s> {
 fn print_history(time: f64, reports: &[IncrementReport]) {
     for r in reports {
         eprintln!(
-            "t = {time} s, load fraction {:.3}: {} Newton iterations, {} multiplier updates; last pass:",
-            r.fraction, r.iterations, r.augmentations
+            "t = {time} s, load fraction {:.3}: {} Newton iterations in {} passes, {} multiplier updates:",
+            r.fraction,
+            r.iterations,
+            r.passes.len(),
+            r.augmentations
         );
         for c in &r.cutbacks {
             eprintln!("  cut back: {c}");
         }
-        for h in &r.history {
-            eprintln!("  {h}");
+        for (k, pass) in r.passes.iter().enumerate() {
+            eprintln!("  pass {}:", k + 1);
+            for h in pass {
+                eprintln!("    {h}");
+            }
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use tecon_contact::{FrictionBound, Vector8};
 
-use crate::error::ElasticError;
+use crate::error::{ElasticError, IterationRecord};
 
 use super::*;
 
@@ -38,6 +38,7 @@ impl StaticSolver<'_> {
                     // the states its last Newton pass started from
                     self.points = self.point_results(&u, &start);
                     self.u = u;
+                    self.update_gauge();
                     self.states = states;
                     self.loads = loads;
                     s = s_try;
@@ -95,6 +96,7 @@ impl StaticSolver<'_> {
         let mut committed = self.states.clone();
         let mut total_iterations = 0;
         let mut max_pass = 0;
+        let mut passes: Vec<Vec<IterationRecord>> = Vec::new();
         let mut augmentations = 0;
         let mut u = self.u.clone();
         // Newton passes; with the augmented Lagrangian, each pass is followed
@@ -104,6 +106,7 @@ impl StaticSolver<'_> {
             let (u_new, history) = self.newton(&f_ext, loads, &committed, u.clone())?;
             total_iterations += history.len();
             max_pass = max_pass.max(history.len());
+            passes.push(history.clone());
             u = u_new;
             let al = self.options.augmented_lagrangian;
             let frozen =
@@ -178,6 +181,7 @@ impl StaticSolver<'_> {
                 fraction: 0.0,
                 iterations: total_iterations,
                 max_pass_iterations: max_pass,
+                passes,
                 augmentations,
                 cutbacks: Vec::new(),
                 history,

@@ -68,6 +68,11 @@ pub struct StaticSolver<'a> {
     cholesky: Option<UpdatedCholesky>,
     lu: Option<LuSolver>,
     u: Vec<f64>,
+    /// `u` in the output gauge (see [`StaticSolver::displacement`]).
+    gauged: Vec<f64>,
+    /// Translations fixed by a minimal constraint, removed again from the
+    /// output displacements.
+    gauges: Vec<Gauge>,
     states: Vec<Vec<[JointState; 2]>>,
     loads: Loads,
     notes: Vec<String>,
@@ -177,6 +182,8 @@ impl<'a> StaticSolver<'a> {
             cholesky: None,
             lu: None,
             u: vec![0.0; n],
+            gauged: vec![0.0; n],
+            gauges: Vec::new(),
             states,
             loads: Loads::zero(),
             notes: Vec::new(),
@@ -184,9 +191,45 @@ impl<'a> StaticSolver<'a> {
         })
     }
 
-    /// Committed displacements (and ε_zz last in generalised plane strain).
+    /// Committed displacements (and ε_zz last in generalised plane strain),
+    /// in the output gauge: when the solver fixed a free rigid translation
+    /// by a minimal constraint (one node), that translation is removed
+    /// again so that the area-weighted mean of the translated component
+    /// over the constrained body is zero, and shifted equally on every
+    /// body of the free mode. Jumps, strains and stresses do not change;
+    /// the answer no longer depends on which node carried the constraint
+    /// nor on the local deformation there.
     pub fn displacement(&self) -> &[f64] {
+        &self.gauged
+    }
+
+    /// Committed displacements as solved, with the minimal constraint's
+    /// node at zero (no output gauge).
+    pub fn raw_displacement(&self) -> &[f64] {
         &self.u
+    }
+
+    /// Sets the output displacements from the committed ones (see
+    /// [`StaticSolver::displacement`]).
+    pub(super) fn update_gauge(&mut self) {
+        self.gauged.clone_from(&self.u);
+        let mesh = self.model.mesh;
+        let x = mesh.nodes();
+        for g in &self.gauges {
+            let (mut area, mut sum) = (0.0, 0.0);
+            for &e in &g.elements {
+                let t = mesh.triangles()[e];
+                let a = tecon_fem::triangle::TriangleGeometry::new(t.map(|v| x[v])).area;
+                area += a;
+                sum += a * t.iter().map(|&v| self.u[2 * v + g.component]).sum::<f64>() / 3.0;
+            }
+            if area > 0.0 {
+                let mean = sum / area;
+                for &v in &g.nodes {
+                    self.gauged[2 * v + g.component] -= mean;
+                }
+            }
+        }
     }
 
     /// Uniform axial strain ε_zz (generalised plane strain), else 0.
@@ -271,10 +314,23 @@ impl<'a> StaticSolver<'a> {
                 };
                 self.dirichlet.set(2 * node + c, 0.0);
                 self.prepared = self.dirichlet.prepare(self.assembler.pattern())?;
+                let all = self.model.mesh.bodies();
+                let mut nodes: Vec<usize> = all
+                    .iter()
+                    .filter(|b| bodies.contains(&b.name))
+                    .flat_map(|b| b.nodes.iter().copied())
+                    .collect();
+                nodes.sort_unstable();
+                nodes.dedup();
+                self.gauges.push(Gauge {
+                    component: c,
+                    elements: body.map(|b| b.elements.clone()).unwrap_or_default(),
+                    nodes,
+                });
                 self.notes.push(format!(
-                    "{description} was free: fixed u_{} = 0 at node {node} of body '{}' (a minimal constraint)",
-                    if c == 0 { "x" } else { "y" },
-                    bodies[0]
+                    "{description} was free: fixed u_{c} = 0 at node {node} of body '{b}' (a minimal constraint); output displacements are then shifted so that the mean u_{c} of body '{b}' is zero",
+                    c = if c == 0 { "x" } else { "y" },
+                    b = bodies[0]
                 ));
                 Ok(())
             }
@@ -332,6 +388,15 @@ impl<'a> StaticSolver<'a> {
         }
         self.points.clone()
     }
+}
+
+/// A rigid translation fixed by a minimal constraint and removed from the
+/// output: component, the triangles whose mean is made zero, the nodes
+/// shifted.
+struct Gauge {
+    component: usize,
+    elements: Vec<usize>,
+    nodes: Vec<usize>,
 }
 
 type States = Vec<Vec<[JointState; 2]>>;

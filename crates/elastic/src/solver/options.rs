@@ -113,13 +113,16 @@ impl Default for SolverOptions {
 pub struct IncrementReport {
     /// Load fraction reached (within the `advance` call).
     pub fraction: f64,
-    /// Newton iterations (summed over augmented-Lagrangian passes).
+    /// Newton iterations of the increment, counting all of its passes.
     pub iterations: usize,
     /// Most Newton iterations of one pass (each augmented-Lagrangian update
     /// starts a new pass from the converged state).
     pub max_pass_iterations: usize,
     /// Augmented-Lagrangian updates made.
     pub augmentations: usize,
+    /// Iteration history of every Newton pass of the increment, in order
+    /// (the last one is [`IncrementReport::history`]).
+    pub passes: Vec<Vec<IterationRecord>>,
     /// Iteration history of the last Newton pass.
     pub history: Vec<IterationRecord>,
     /// Failed attempts (and why) cut back before this increment converged.
