@@ -4,16 +4,28 @@
 //! * [`vessel`]: the welded-vessel case end to end.
 //! * [`mesh_cmd`]: mesh generation / import and VTK output.
 //! * [`torsion`]: wavelet-BEM torsion of a section.
-//! * [`plot`]: SVG/PNG line plots shared by the commands.
+//! * [`plot`]: SVG/PNG figures (panels, log axes, clipped lines) shared by the commands.
+//! * [`front`]: what `tecon vessel` adds: figures, yield check, report.txt, timing.json.
+//! * [`figures`]: the vessel's figures and interface tables from plain data.
+//! * [`report_html`]: the self-contained `report.html` of an output folder.
+//! * [`outdir`]: output folders a run owns (writable check, manifest, stale files).
+//! * [`yield_check`]: von Mises against the yield stress, per region.
+//! * [`cmdline`]: argument checks before computing; quiet end on a closed pipe.
 
 pub mod builtin;
 pub mod case;
+pub mod cmdline;
 pub mod conductance;
 pub mod driver;
 pub mod duplex;
+pub mod figures;
+pub mod front;
 pub mod mesh_cmd;
+pub mod outdir;
 pub mod plot;
+pub mod report_html;
 pub mod setup;
 pub mod torsion;
 pub mod vessel;
 pub mod writers;
+pub mod yield_check;

@@ -5,9 +5,19 @@
 //! tecon mesh --preset paper --out tecon-out/mesh
 //! tecon torsion --section ellipse:a=2,b=1
 //! ```
+//!
+//! Every command that writes an output folder checks it first (writable,
+//! tecon's own or `--force`), and after a successful run writes
+//! `report.html` and the folder's manifest (see [`tecon_cli::outdir`]).
+//! A closed pipe on stdout (`tecon mesh --preset 3 | head -1`) ends the
+//! program quietly.
+
+use std::path::{Path, PathBuf};
 
 use clap::{Parser, Subcommand};
-use tecon_cli::{case, mesh_cmd, torsion, vessel};
+use tecon_cli::outdir::OutDir;
+use tecon_cli::report_html::{self, ReportInputs};
+use tecon_cli::{case, cmdline, front, mesh_cmd, torsion, vessel};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -20,27 +30,186 @@ struct Cli {
     command: Command,
 }
 
+/// Options every command that writes a folder has.
+#[derive(clap::Args, Debug, Clone, Copy)]
+struct FolderArgs {
+    /// Write into an output folder that holds files tecon did not write
+    /// (they are kept; without --force such a folder is refused).
+    #[arg(long)]
+    force: bool,
+}
+
+#[derive(clap::Args, Debug)]
+struct VesselCmd {
+    #[command(flatten)]
+    args: vessel::VesselArgs,
+    #[command(flatten)]
+    folder: FolderArgs,
+    /// Yield stress, Pa: report the regions where the von Mises stress exceeds it.
+    #[arg(long = "yield", value_name = "PA")]
+    yield_stress: Option<f64>,
+}
+
+#[derive(clap::Args, Debug)]
+struct MeshCmd {
+    #[command(flatten)]
+    args: mesh_cmd::MeshArgs,
+    #[command(flatten)]
+    folder: FolderArgs,
+}
+
+#[derive(clap::Args, Debug)]
+struct TorsionCmd {
+    #[command(flatten)]
+    args: torsion::TorsionArgs,
+    #[command(flatten)]
+    folder: FolderArgs,
+}
+
+#[derive(clap::Args, Debug)]
+struct RunCmd {
+    #[command(flatten)]
+    args: case::RunArgs,
+    #[command(flatten)]
+    folder: FolderArgs,
+}
+
 #[derive(Subcommand, Debug)]
 enum Command {
     /// The welded monolayer vessel: cooling weld, thermoelastic contact, prestress.
-    Vessel(vessel::VesselArgs),
+    Vessel(VesselCmd),
     /// Generate the welded-vessel mesh (or read a Gmsh file), validate it and write VTK.
-    Mesh(mesh_cmd::MeshArgs),
+    Mesh(MeshCmd),
     /// Saint-Venant torsion of a prismatic bar by the wavelet boundary integral method.
-    Torsion(torsion::TorsionArgs),
+    Torsion(TorsionCmd),
     /// Run a case file.
-    Run(case::RunArgs),
+    Run(RunCmd),
+}
+
+type BoxErr = Box<dyn std::error::Error + Send + Sync>;
+
+/// The command line as typed (for the manifest and the report), quoted where needed.
+fn command_line() -> String {
+    std::env::args()
+        .skip(1)
+        .map(|a| {
+            if a.is_empty() || a.contains([' ', '\'', '"']) {
+                format!("'{}'", a.replace('\'', "'\\''"))
+            } else {
+                a
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Runs `body` with the output folder `out` claimed first, then writes
+/// `report.html` (when `report` is given, with the warnings `body` returns)
+/// and the manifest.
+fn in_folder(
+    out: &Path,
+    force: bool,
+    report: Option<ReportInputs>,
+    body: impl FnOnce() -> Result<Vec<String>, BoxErr>,
+) -> Result<(), BoxErr> {
+    let dir = OutDir::prepare(out, &command_line(), force)?;
+    match body() {
+        Ok(warnings) => {
+            if let Some(mut r) = report {
+                r.warnings.extend(warnings);
+                report_html::write(out, &r).map_err(|e| format!("{}: {e}", out.display()))?;
+            }
+            dir.finish()?;
+            Ok(())
+        }
+        Err(e) => {
+            dir.abandon();
+            Err(e)
+        }
+    }
+}
+
+fn inputs_of(args: &impl std::fmt::Debug) -> Vec<(String, String)> {
+    // one row per option, from the parsed arguments
+    let text = format!("{args:#?}");
+    text.lines()
+        .map(str::trim)
+        .filter_map(|l| l.split_once(": "))
+        .map(|(k, v)| (k.to_string(), v.trim_end_matches(',').to_string()))
+        .filter(|(_, v)| !v.ends_with('{') && !v.ends_with('['))
+        .collect()
+}
+
+fn run(cli: Cli) -> Result<(), BoxErr> {
+    match cli.command {
+        Command::Vessel(c) => {
+            cmdline::check_times(&c.args.times)?;
+            if let Some(y) = c.yield_stress {
+                cmdline::check_yield(y)?;
+            }
+            let out = c.args.out.clone();
+            let report = ReportInputs {
+                title: "tecon vessel: the welded monolayer vessel".into(),
+                command: format!("tecon {}", command_line()),
+                inputs: inputs_of(&c.args),
+                ..Default::default()
+            };
+            in_folder(&out, c.folder.force, Some(report), || {
+                front::vessel(c.args, c.yield_stress)
+            })
+        }
+        Command::Mesh(c) => {
+            let out = c.args.out.clone();
+            in_folder(&out, c.folder.force, None, || {
+                mesh_cmd::run(c.args).map(|_| Vec::new())
+            })
+        }
+        Command::Torsion(c) => match c.args.out.clone() {
+            Some(out) => {
+                let report = ReportInputs {
+                    title: format!("tecon torsion: {}", c.args.section),
+                    command: format!("tecon {}", command_line()),
+                    inputs: inputs_of(&c.args),
+                    ..Default::default()
+                };
+                in_folder(&out, c.folder.force, Some(report), || {
+                    torsion::run(c.args).map(|_| Vec::new())
+                })
+            }
+            None => torsion::run(c.args),
+        },
+        Command::Run(c) => {
+            let out = c.args.out.clone().unwrap_or_else(|| {
+                let stem = c
+                    .args
+                    .case
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "case".into());
+                PathBuf::from("tecon-out").join(stem)
+            });
+            let source = std::fs::read_to_string(&c.args.case)
+                .ok()
+                .map(|t| (c.args.case.display().to_string(), t));
+            let report = ReportInputs {
+                title: format!("tecon run {}", c.args.case.display()),
+                command: format!("tecon {}", command_line()),
+                source,
+                ..Default::default()
+            };
+            let mut args = c.args;
+            args.out = Some(out.clone());
+            in_folder(&out, c.folder.force, Some(report), || {
+                case::run(args).map(|_| Vec::new())
+            })
+        }
+    }
 }
 
 fn main() {
+    cmdline::quiet_on_broken_pipe();
     let cli = Cli::parse();
-    let result = match cli.command {
-        Command::Vessel(args) => vessel::run(args),
-        Command::Mesh(args) => mesh_cmd::run(args),
-        Command::Torsion(args) => torsion::run(args),
-        Command::Run(args) => case::run(args),
-    };
-    if let Err(e) = result {
+    if let Err(e) = run(cli) {
         eprintln!("error: {e}");
         std::process::exit(2);
     }

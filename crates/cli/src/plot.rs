@@ -81,19 +81,591 @@ pub struct ColouredPath {
     pub closed: bool,
 }
 
-const PALETTE: [RGBColor; 6] = [
+/// Ten distinguishable colours (one per time or per quantity).
+pub const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
 ];
 
 fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {
     PlotError::Draw {
         path: path.display().to_string(),
         message: e.to_string(),
+    }
+}
+
+/// A tick label without a trailing ".0" or floating-point noise:
+/// `2.0 → "2"`, `0.30000000000000004 → "0.3"`, `-0.0 → "0"`, `2.5e-7 → "2.5e-7"`.
+pub fn fmt_tick(v: f64) -> String {
+    if !v.is_finite() {
+        return v.to_string();
+    }
+    let a = v.abs();
+    if a == 0.0 || a < 1e-12 {
+        return "0".into();
+    }
+    let trim = |s: String| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if !(1e-4..1e7).contains(&a) {
+        // mantissa with at most 4 significant digits
+        let s = format!("{v:.3e}");
+        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+        return format!("{}e{}", trim(m.to_string()), e);
+    }
+    // six significant digits, then trimmed
+    let decimals = (5 - a.log10().floor() as i32).clamp(0, 12) as usize;
+    let s = trim(format!("{v:.decimals$}"));
+    if s == "-0" { "0".into() } else { s }
+}
+
+/// A value for a legend or a title: like [`fmt_tick`] (`1 s`, `600 s`, `0.02 s`).
+pub fn fmt_value(v: f64) -> String {
+    fmt_tick(v)
+}
+
+/// Axis scale.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Scale {
+    /// Linear.
+    #[default]
+    Linear,
+    /// Base-10 logarithmic (non-positive values are left out).
+    Log,
+}
+
+/// One axis of a panel.
+#[derive(Clone, Debug, Default)]
+pub struct Axis {
+    /// label with unit
+    pub label: String,
+    /// linear or logarithmic
+    pub scale: Scale,
+    /// fixed range (data outside is clipped at the frame); `None`: fit the data
+    pub range: Option<(f64, f64)>,
+}
+
+impl Axis {
+    /// A linear axis fitted to the data.
+    pub fn linear(label: impl Into<String>) -> Self {
+        Axis {
+            label: label.into(),
+            ..Default::default()
+        }
+    }
+    /// A logarithmic axis fitted to the data.
+    pub fn log(label: impl Into<String>) -> Self {
+        Axis {
+            label: label.into(),
+            scale: Scale::Log,
+            range: None,
+        }
+    }
+    /// The same axis with a fixed range.
+    pub fn range(mut self, lo: f64, hi: f64) -> Self {
+        self.range = Some((lo, hi));
+        self
+    }
+}
+
+/// One line of a panel.
+#[derive(Clone, Debug, Default)]
+pub struct Line {
+    /// legend label (empty: not in the legend)
+    pub label: String,
+    /// points in drawing order (a non-finite point breaks the line)
+    pub points: Vec<(f64, f64)>,
+    /// index into [`PALETTE`]
+    pub colour: usize,
+    /// dashed instead of solid
+    pub dashed: bool,
+    /// a marker at every point
+    pub markers: bool,
+    /// no connecting line (markers only)
+    pub no_line: bool,
+}
+
+impl Line {
+    /// A solid line.
+    pub fn solid(label: impl Into<String>, colour: usize, points: Vec<(f64, f64)>) -> Self {
+        Line {
+            label: label.into(),
+            points,
+            colour,
+            ..Default::default()
+        }
+    }
+    /// A dashed line.
+    pub fn dashed(label: impl Into<String>, colour: usize, points: Vec<(f64, f64)>) -> Self {
+        Line {
+            dashed: true,
+            ..Line::solid(label, colour, points)
+        }
+    }
+    /// The same line with a marker at every point.
+    pub fn with_markers(mut self) -> Self {
+        self.markers = true;
+        self
+    }
+    /// Markers only.
+    pub fn points_only(mut self) -> Self {
+        self.markers = true;
+        self.no_line = true;
+        self
+    }
+}
+
+/// A value outside the frame, marked at the frame's edge with a label.
+#[derive(Clone, Debug)]
+pub struct OffScale {
+    /// x of the value
+    pub x: f64,
+    /// the value (above or below the frame)
+    pub y: f64,
+    /// text beside the mark
+    pub label: String,
+}
+
+/// Where the legend goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LegendAt {
+    /// upper right corner (default)
+    #[default]
+    UpperRight,
+    /// upper left corner
+    UpperLeft,
+    /// lower right corner
+    LowerRight,
+    /// lower left corner
+    LowerLeft,
+    /// no legend
+    None,
+}
+
+/// One panel: axes, lines and marks.
+#[derive(Clone, Debug, Default)]
+pub struct Panel {
+    /// panel title
+    pub title: String,
+    /// x axis
+    pub x: Axis,
+    /// y axis
+    pub y: Axis,
+    /// the lines
+    pub lines: Vec<Line>,
+    /// values outside the frame, marked at its edge
+    pub off_scale: Vec<OffScale>,
+    /// text lines written inside the frame (upper left)
+    pub notes: Vec<String>,
+    /// legend position
+    pub legend: LegendAt,
+}
+
+/// A figure of one or more panels side by side.
+#[derive(Clone, Debug)]
+pub struct Figure {
+    /// figure title
+    pub title: String,
+    /// panels, left to right
+    pub panels: Vec<Panel>,
+    /// size in pixels
+    pub size: (u32, u32),
+}
+
+fn to_scale(v: f64, s: Scale) -> f64 {
+    match s {
+        Scale::Linear => v,
+        Scale::Log => {
+            if v > 0.0 {
+                v.log10()
+            } else {
+                f64::NAN
+            }
+        }
+    }
+}
+
+/// Drawing range of one axis (in scaled coordinates) from the data or the fixed range.
+fn axis_range(axis: &Axis, values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    if let Some((a, b)) = axis.range {
+        let (a, b) = (to_scale(a, axis.scale), to_scale(b, axis.scale));
+        if a.is_finite() && b.is_finite() && b > a {
+            return Some((a, b));
+        }
+    }
+    let mut r: Option<(f64, f64)> = None;
+    for v in values
+        .map(|v| to_scale(v, axis.scale))
+        .filter(|v| v.is_finite())
+    {
+        r = Some(match r {
+            None => (v, v),
+            Some((a, b)) => (a.min(v), b.max(v)),
+        });
+    }
+    r.map(|(a, b)| {
+        let pad = if b > a {
+            0.04 * (b - a)
+        } else {
+            0.5 * a.abs().max(1.0)
+        };
+        (a - pad, b + pad)
+    })
+}
+
+/// Liang–Barsky: the part of segment p→q inside the box, if any.
+fn clip_segment(
+    p: (f64, f64),
+    q: (f64, f64),
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (q.0 - p.0, q.1 - p.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (pk, qk) in [
+        (-dx, p.0 - x0),
+        (dx, x1 - p.0),
+        (-dy, p.1 - y0),
+        (dy, y1 - p.1),
+    ] {
+        if pk == 0.0 {
+            if qk < 0.0 {
+                return None;
+            }
+        } else {
+            let r = qk / pk;
+            if pk < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1).then(|| {
+        (
+            (p.0 + t0 * dx, p.1 + t0 * dy),
+            (p.0 + t1 * dx, p.1 + t1 * dy),
+        )
+    })
+}
+
+/// A polyline cut into the pieces that lie inside the box (non-finite points break it).
+pub fn clip_polyline(
+    points: &[(f64, f64)],
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Vec<Vec<(f64, f64)>> {
+    let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut cur: Vec<(f64, f64)> = Vec::new();
+    let finite = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    let inside = |p: (f64, f64)| p.0 >= xr.0 && p.0 <= xr.1 && p.1 >= yr.0 && p.1 <= yr.1;
+    if points.len() == 1 && finite(&points[0]) && inside(points[0]) {
+        return vec![points.to_vec()];
+    }
+    for w in points.windows(2) {
+        if !(finite(&w[0]) && finite(&w[1])) {
+            if cur.len() > 1 {
+                out.push(std::mem::take(&mut cur));
+            }
+            cur.clear();
+            continue;
+        }
+        match clip_segment(w[0], w[1], xr, yr) {
+            Some((a, b)) => {
+                if cur.last() != Some(&a) {
+                    if cur.len() > 1 {
+                        out.push(std::mem::take(&mut cur));
+                    }
+                    cur = vec![a];
+                }
+                cur.push(b);
+            }
+            None => {
+                if cur.len() > 1 {
+                    out.push(std::mem::take(&mut cur));
+                }
+                cur.clear();
+            }
+        }
+    }
+    if cur.len() > 1 {
+        out.push(cur);
+    }
+    out
+}
+
+/// Legend entry of a line: solid or dashed, with a dot when it has markers.
+fn label_series<'a, DB: DrawingBackend + 'a>(
+    anno: &mut plotters::chart::SeriesAnno<'a, DB>,
+    l: &Line,
+    c: RGBColor,
+) {
+    let style = c.stroke_width(2);
+    let gap = if l.dashed { 4 } else { 0 };
+    let dot = if l.markers {
+        c.filled()
+    } else {
+        c.mix(0.0).filled()
+    };
+    anno.label(l.label.clone()).legend(move |(x, y)| {
+        EmptyElement::at((x, y))
+            + PathElement::new(vec![(0, 0), (7, 0)], style)
+            + PathElement::new(vec![(7 + gap, 0), (18, 0)], style)
+            + Circle::new((9, 0), 3, dot)
+    });
+}
+
+impl Panel {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        path: &Path,
+    ) -> Result<(), PlotError> {
+        let all = || self.lines.iter().flat_map(|l| l.points.iter().copied());
+        let xr = axis_range(&self.x, all().filter(|p| p.1.is_finite()).map(|p| p.0));
+        // the y range fitted to the points inside the x range
+        let yr = axis_range(
+            &self.y,
+            all()
+                .filter(|p| {
+                    let x = to_scale(p.0, self.x.scale);
+                    xr.is_some_and(|(a, b)| x >= a && x <= b)
+                })
+                .map(|p| p.1),
+        );
+        let (Some(xr), Some(yr)) = (xr, yr) else {
+            return Err(PlotError::Empty(self.title.clone()));
+        };
+        let mut chart = ChartBuilder::on(area)
+            .caption(&self.title, ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(48)
+            .y_label_area_size(72)
+            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+            .map_err(|e| err(path, e))?;
+        let fx = |v: &f64| match self.x.scale {
+            Scale::Linear => fmt_tick(*v),
+            Scale::Log => fmt_tick(10f64.powf(*v)),
+        };
+        let fy = |v: &f64| match self.y.scale {
+            Scale::Linear => fmt_tick(*v),
+            Scale::Log => fmt_tick(10f64.powf(*v)),
+        };
+        chart
+            .configure_mesh()
+            .x_desc(&self.x.label)
+            .y_desc(&self.y.label)
+            .x_label_formatter(&fx)
+            .y_label_formatter(&fy)
+            .x_labels(8)
+            .y_labels(8)
+            .label_style(("sans-serif", 14))
+            .axis_desc_style(("sans-serif", 15))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(|e| err(path, e))?;
+        let mut legend = false;
+        for l in &self.lines {
+            let c = PALETTE[l.colour % PALETTE.len()];
+            let scaled: Vec<(f64, f64)> = l
+                .points
+                .iter()
+                .map(|&(x, y)| (to_scale(x, self.x.scale), to_scale(y, self.y.scale)))
+                .collect();
+            let style = c.stroke_width(2);
+            let pieces = if l.no_line {
+                Vec::new()
+            } else {
+                clip_polyline(&scaled, xr, yr)
+            };
+            let mut first = true;
+            for piece in pieces {
+                let anno = if l.dashed {
+                    chart
+                        .draw_series(DashedLineSeries::new(piece, 7, 4, style))
+                        .map_err(|e| err(path, e))?
+                } else {
+                    chart
+                        .draw_series(LineSeries::new(piece, style))
+                        .map_err(|e| err(path, e))?
+                };
+                if first {
+                    if !l.label.is_empty() {
+                        legend = true;
+                        label_series(anno, l, c);
+                    }
+                    first = false;
+                }
+            }
+            if l.markers {
+                let inside: Vec<(f64, f64)> = scaled
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0 >= xr.0 && p.0 <= xr.1 && p.1 >= yr.0 && p.1 <= yr.1)
+                    .collect();
+                let anno = chart
+                    .draw_series(inside.into_iter().map(|p| Circle::new(p, 4, c.filled())))
+                    .map_err(|e| err(path, e))?;
+                if first {
+                    if !l.label.is_empty() {
+                        legend = true;
+                        label_series(anno, l, c);
+                    }
+                }
+            }
+        }
+        // values beyond the frame: a triangle at the edge and a label
+        for o in &self.off_scale {
+            let x = to_scale(o.x, self.x.scale);
+            let y = to_scale(o.y, self.y.scale);
+            if !(x.is_finite() && x >= xr.0 && x <= xr.1) {
+                continue;
+            }
+            let above = y > yr.1;
+            let edge = if above { yr.1 } else { yr.0 };
+            let red = RGBColor(200, 0, 0);
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((x, edge))
+                        + Polygon::new(
+                            if above {
+                                vec![(0, 0), (-7, 12), (7, 12)]
+                            } else {
+                                vec![(0, 0), (-7, -12), (7, -12)]
+                            },
+                            red.filled(),
+                        )
+                        + Text::new(
+                            o.label.clone(),
+                            (10, if above { 4 } else { -20 }),
+                            ("sans-serif", 14).into_font().color(&red),
+                        ),
+                ))
+                .map_err(|e| err(path, e))?;
+        }
+        if !self.notes.is_empty() {
+            let (px, py) = (xr.0 + 0.02 * (xr.1 - xr.0), yr.1);
+            chart
+                .draw_series(self.notes.iter().enumerate().map(|(k, n)| {
+                    EmptyElement::at((px, py))
+                        + Text::new(n.clone(), (0, 6 + 17 * k as i32), ("sans-serif", 14))
+                }))
+                .map_err(|e| err(path, e))?;
+        }
+        let pos = match self.legend {
+            LegendAt::UpperRight => Some(SeriesLabelPosition::UpperRight),
+            LegendAt::UpperLeft => Some(SeriesLabelPosition::UpperLeft),
+            LegendAt::LowerRight => Some(SeriesLabelPosition::LowerRight),
+            LegendAt::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
+            LegendAt::None => None,
+        };
+        if let (true, Some(pos)) = (legend, pos) {
+            chart
+                .configure_series_labels()
+                .position(pos)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()
+                .map_err(|e| err(path, e))?;
+        }
+        Ok(())
+    }
+}
+
+impl Figure {
+    /// A figure with one panel (900×600).
+    pub fn single(panel: Panel) -> Self {
+        Figure {
+            title: String::new(),
+            panels: vec![panel],
+            size: (900, 600),
+        }
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+        path: &Path,
+    ) -> Result<(), PlotError> {
+        root.fill(&WHITE).map_err(|e| err(path, e))?;
+        let area = if self.title.is_empty() {
+            root.clone()
+        } else {
+            root.titled(&self.title, ("sans-serif", 22))
+                .map_err(|e| err(path, e))?
+        };
+        let n = self.panels.len().max(1);
+        let cells = area.split_evenly((1, n));
+        for (p, cell) in self.panels.iter().zip(&cells) {
+            p.draw(cell, path)?;
+        }
+        root.present().map_err(|e| err(path, e))
+    }
+
+    /// The figure as an SVG document.
+    pub fn to_svg(&self) -> Result<String, PlotError> {
+        register_bundled_font();
+        let mut s = String::new();
+        self.draw(
+            SVGBackend::with_string(&mut s, self.size).into_drawing_area(),
+            Path::new("<svg>"),
+        )?;
+        Ok(s)
+    }
+
+    /// Writes `<stem>.svg` and `<stem>.png` and returns their paths.
+    pub fn write_svg_png(&self, stem: &Path) -> Result<(PathBuf, PathBuf), PlotError> {
+        register_bundled_font();
+        let svg = stem.with_extension("svg");
+        let png = stem.with_extension("png");
+        let text = self.to_svg()?;
+        std::fs::write(&svg, text).map_err(|e| err(&svg, e))?;
+        self.draw(
+            BitMapBackend::new(&png, self.size).into_drawing_area(),
+            &png,
+        )?;
+        Ok((svg, png))
+    }
+}
+
+impl LinePlot {
+    /// The plot as a one-panel [`Figure`] (one colour per series, solid).
+    pub fn figure(&self) -> Figure {
+        Figure::single(Panel {
+            title: self.title.clone(),
+            x: Axis::linear(self.x_label.clone()),
+            y: Axis::linear(self.y_label.clone()),
+            lines: self
+                .series
+                .iter()
+                .enumerate()
+                .map(|(k, s)| Line::solid(s.label.clone(), k, s.points.clone()))
+                .collect(),
+            legend: if self.series.len() > 1 || self.series.iter().any(|s| !s.label.is_empty()) {
+                LegendAt::UpperRight
+            } else {
+                LegendAt::None
+            },
+            ..Default::default()
+        })
+    }
+
+    /// Writes `<stem>.svg` and `<stem>.png` (900×600) and returns their paths.
+    pub fn write_svg_png(&self, stem: &Path) -> Result<(PathBuf, PathBuf), PlotError> {
+        self.figure().write_svg_png(stem)
     }
 }
 
@@ -118,72 +690,6 @@ fn bounds(it: impl Iterator<Item = (f64, f64)>) -> Option<((f64, f64), (f64, f64
         };
         ((x0 - px, x1 + px), (y0 - py, y1 + py))
     })
-}
-
-impl LinePlot {
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: DrawingArea<DB, Shift>,
-        path: &Path,
-    ) -> Result<(), PlotError> {
-        let ((x0, x1), (y0, y1)) =
-            bounds(self.series.iter().flat_map(|s| s.points.iter().copied()))
-                .ok_or_else(|| PlotError::Empty(self.title.clone()))?;
-        root.fill(&WHITE).map_err(|e| err(path, e))?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(&self.title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| err(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc(&self.x_label)
-            .y_desc(&self.y_label)
-            .label_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| err(path, e))?;
-        for (k, s) in self.series.iter().enumerate() {
-            let c = PALETTE[k % PALETTE.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    s.points
-                        .iter()
-                        .copied()
-                        .filter(|(x, y)| x.is_finite() && y.is_finite()),
-                    c.stroke_width(2),
-                ))
-                .map_err(|e| err(path, e))?
-                .label(s.label.clone())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
-                });
-        }
-        if self.series.len() > 1 || self.series.iter().any(|s| !s.label.is_empty()) {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .draw()
-                .map_err(|e| err(path, e))?;
-        }
-        root.present().map_err(|e| err(path, e))
-    }
-
-    /// Writes `<stem>.svg` and `<stem>.png` (900×600) and returns their paths.
-    pub fn write_svg_png(&self, stem: &Path) -> Result<(PathBuf, PathBuf), PlotError> {
-        register_bundled_font();
-        let svg = stem.with_extension("svg");
-        let png = stem.with_extension("png");
-        self.draw(SVGBackend::new(&svg, (900, 600)).into_drawing_area(), &svg)?;
-        self.draw(
-            BitMapBackend::new(&png, (900, 600)).into_drawing_area(),
-            &png,
-        )?;
-        Ok((svg, png))
-    }
 }
 
 /// Blue → red colour map on [0, 1].

@@ -1,0 +1,334 @@
+//! What `tecon vessel` adds around the analysis: the readable figures, the
+//! yield check, the operating-pressure lines of the printed report, the
+//! printed report saved as `report.txt`, and the wall-clock times in their
+//! own `timing.json` (so that `summary.json` is bitwise the same for any
+//! number of threads).
+
+use std::path::Path;
+
+use serde_json::{Value, json};
+use tecon_elastic::{StressField, polar};
+
+use crate::figures::{self, RingTemperature, WallProfile, WallTemperature};
+use crate::report_html::REPORT_TEXT;
+use crate::vessel::{self, CliResult, VesselArgs, VesselRun};
+use crate::yield_check::{self, YieldReport};
+
+/// Keys of the vessel summary that are wall-clock times (moved to `timing.json`).
+pub const TIMING_KEYS: [&str; 3] = ["seconds", "seconds_heat_conduction", "seconds_contact"];
+
+/// Moves the wall-clock entries of a summary into a separate object.
+pub fn split_timing(v: &mut Value) -> Value {
+    let mut t = serde_json::Map::new();
+    if let Some(m) = v.as_object_mut() {
+        for k in TIMING_KEYS {
+            if let Some(x) = m.remove(k) {
+                t.insert(k.to_string(), x);
+            }
+        }
+    }
+    Value::Object(t)
+}
+
+fn write(path: &Path, text: &str) -> CliResult<()> {
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()).into())
+}
+
+/// Printed lines of the operating state (`--pressure`): mean hoop stress at
+/// the four surfaces with the weld prestress and with the pressure alone.
+pub fn pressure_lines(v: &Value) -> Vec<String> {
+    let Some(op) = v.get("operating") else {
+        return Vec::new();
+    };
+    let f = |k: &str| op.pointer(k).and_then(Value::as_f64).unwrap_or(f64::NAN) / 1e6;
+    let mut s = vec![format!(
+        "operating pressure {} MPa after cooling (circumferential mean of σ_θθ, MPa):  with prestress  pressure alone  prestress effect",
+        crate::plot::fmt_value(op["pressure"].as_f64().unwrap_or(f64::NAN) / 1e6)
+    )];
+    for (k, label) in [
+        ("core_inner", "core inner"),
+        ("core_outer", "core outer"),
+        ("layer_inner", "layer inner"),
+        ("layer_outer", "layer outer"),
+    ] {
+        let a = f(&format!("/hoop_mean_with_prestress/{k}"));
+        let b = f(&format!("/hoop_mean_pressure_only/{k}"));
+        s.push(format!(
+            "  {label:<12} {a:>14.2} {b:>15.2} {:>+16.2}",
+            a - b
+        ));
+    }
+    s
+}
+
+/// The yield check of the cooled state (and of the operating state with `--pressure`).
+pub fn yield_reports(run: &VesselRun, yield_stress: Option<f64>) -> Vec<(String, YieldReport)> {
+    let y = |_: &str| yield_stress;
+    let mut v = Vec::new();
+    if let Some(last) = run.results.last() {
+        v.push((
+            format!(
+                "after cooling (t = {} s)",
+                crate::plot::fmt_value(last.time)
+            ),
+            yield_check::check(&run.mesh, &last.stress, &y),
+        ));
+    }
+    if let Some((op, _)) = &run.operating {
+        v.push((
+            "operating (with prestress)".to_string(),
+            yield_check::check(&run.mesh, op, &y),
+        ));
+    }
+    v
+}
+
+/// Circumferential mean of the element hoop stress in each band between
+/// node rows of one body: (mid radius, mean σ_θθ). Elements are constant
+/// stress, so the band means carry no node-row zig-zag.
+pub fn band_means(run: &VesselRun, s: &StressField, radii: &[f64], body: usize) -> Vec<(f64, f64)> {
+    let mesh = &run.mesh;
+    let areas = mesh.areas();
+    let nb = radii.len().saturating_sub(1);
+    let mut sum = vec![0.0; nb];
+    let mut w = vec![0.0; nb];
+    for (e, t) in mesh.triangles().iter().enumerate() {
+        if mesh.node_bodies()[t[0]] != body {
+            continue;
+        }
+        let c = [
+            (mesh.nodes()[t[0]][0] + mesh.nodes()[t[1]][0] + mesh.nodes()[t[2]][0]) / 3.0,
+            (mesh.nodes()[t[0]][1] + mesh.nodes()[t[1]][1] + mesh.nodes()[t[2]][1]) / 3.0,
+        ];
+        let r = c[0].hypot(c[1]);
+        if let Some(k) = (0..nb).find(|&k| r >= radii[k] && r <= radii[k + 1]) {
+            sum[k] += areas[e] * polar(s.element[e], c, [0.0, 0.0])[1];
+            w[k] += areas[e];
+        }
+    }
+    (0..nb)
+        .filter(|&k| w[k] > 0.0)
+        .map(|k| (0.5 * (radii[k] + radii[k + 1]), sum[k] / w[k]))
+        .collect()
+}
+
+fn body_index(run: &VesselRun, name: &str) -> usize {
+    run.mesh
+        .bodies()
+        .iter()
+        .position(|b| b.name.split('+').any(|n| n == name))
+        .unwrap_or(0)
+}
+
+/// Nodes of a body on the circle of radius r, sorted by θ.
+fn ring(run: &VesselRun, body: usize, r: f64) -> Vec<usize> {
+    let m = &run.mesh;
+    let th = |i: usize| m.nodes()[i][1].atan2(m.nodes()[i][0]);
+    let mut v: Vec<usize> = (0..m.n_nodes())
+        .filter(|&i| {
+            m.node_bodies()[i] == body
+                && (m.nodes()[i][0].hypot(m.nodes()[i][1]) - r).abs() < 1e-9 * r
+        })
+        .collect();
+    v.sort_by(|&a, &b| th(a).total_cmp(&th(b)));
+    v
+}
+
+/// Writes the readable figures over the driver's first drafts (same names).
+pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
+    let Some(last) = run.results.last() else {
+        return Ok(());
+    };
+    let m = &run.mesh;
+    let g = &run.options.geometry;
+    let o = &run.options;
+    let (core, layer) = (body_index(run, "core"), body_index(run, "layer"));
+    let deg = |i: usize| m.nodes()[i][1].atan2(m.nodes()[i][0]).to_degrees();
+    let (ri, rc, ro) = (g.inner_radius, g.interface_radius(), g.outer_radius());
+    let wall = |r: f64| 100.0 * (r - ri) / (ro - ri);
+
+    // fig6
+    let l_in = ring(run, layer, rc);
+    let l_out = ring(run, layer, ro);
+    let rings: Vec<RingTemperature> = run
+        .results
+        .iter()
+        .map(|r| RingTemperature {
+            time: r.time,
+            inner: l_in
+                .iter()
+                .map(|&i| (deg(i), r.thermal.temperature[i]))
+                .collect(),
+            outer: l_out
+                .iter()
+                .map(|&i| (deg(i), r.thermal.temperature[i]))
+                .collect(),
+        })
+        .collect();
+    figures::fig6(&rings).write_svg_png(&dir.join("fig6_temperature_circumference"))?;
+
+    // fig7: weld centre and two angles beside it, every time
+    let core_r: Vec<f64> = (0..=o.mesh.core_rows)
+        .map(|j| ri + (rc - ri) * j as f64 / o.mesh.core_rows as f64)
+        .collect();
+    let layer_r: Vec<f64> = (0..=o.mesh.layer_rows)
+        .map(|j| rc + (ro - rc) * j as f64 / o.mesh.layer_rows as f64)
+        .collect();
+    let column = |body: usize, radii: &[f64], angle: f64| -> Vec<usize> {
+        radii
+            .iter()
+            .filter_map(|&r| {
+                ring(run, body, r)
+                    .into_iter()
+                    .min_by(|&p, &q| (deg(p) - angle).abs().total_cmp(&(deg(q) - angle).abs()))
+            })
+            .collect()
+    };
+    let mut profiles = Vec::new();
+    for angle in [0.0, 2.0, 10.0] {
+        let (cc, lc) = (column(core, &core_r, angle), column(layer, &layer_r, angle));
+        let actual = lc.first().map_or(angle, |&i| deg(i));
+        for r in &run.results {
+            let t = &r.thermal.temperature;
+            let pts = |nodes: &[usize]| -> Vec<(f64, f64)> {
+                nodes
+                    .iter()
+                    .map(|&i| (wall(m.nodes()[i][0].hypot(m.nodes()[i][1])), t[i]))
+                    .collect()
+            };
+            profiles.push(WallTemperature {
+                time: r.time,
+                angle: actual,
+                core: pts(&cc),
+                layer: pts(&lc),
+            });
+        }
+    }
+    figures::fig7(&profiles).write_svg_png(&dir.join("fig7_temperature_through_wall"))?;
+
+    // fig8 and fig11: band means of the element hoop stress
+    let fe = WallProfile {
+        label: "FE (circumferential mean per element row)".into(),
+        core: band_means(run, &last.stress, &core_r, core)
+            .into_iter()
+            .map(|(r, s)| (wall(r), s / 1e6))
+            .collect(),
+        layer: band_means(run, &last.stress, &layer_r, layer)
+            .into_iter()
+            .map(|(r, s)| (wall(r), s / 1e6))
+            .collect(),
+    };
+    let an = vessel::analytical(o);
+    let model = |label: &str, f: &tecon_elastic::analytical::ShrinkFit| {
+        let pts = |a: f64, b: f64, in_core: bool| -> Vec<(f64, f64)> {
+            (0..=24)
+                .map(|k| a + (b - a) * k as f64 / 24.0)
+                .map(|r| (wall(r), f.sigma_tt(r, in_core) / 1e6))
+                .collect()
+        };
+        WallProfile {
+            label: label.into(),
+            core: pts(f.a, f.c, true),
+            layer: pts(f.c, f.b, false),
+        }
+    };
+    let consistent = model(
+        "two cylinders, plane-strain consistent δ = (1+ν)αΔTw/2π",
+        &an[2].1,
+    );
+    figures::through_wall(
+        "Hoop prestress through the wall after cooling",
+        &fe,
+        std::slice::from_ref(&consistent),
+    )
+    .write_svg_png(&dir.join("fig8_hoop_prestress_through_wall"))?;
+    figures::through_wall(
+        "Hoop prestress: FE against the shrink-fit models",
+        &fe,
+        &[
+            consistent,
+            model("two cylinders, plane strain δ = αΔTw/2π", &an[0].1),
+            model("two cylinders, classical plane stress", &an[1].1),
+        ],
+    )
+    .write_svg_png(&dir.join("fig11_hoop_fe_vs_analytical"))?;
+
+    // fig9
+    let hoop = |i: usize| polar(last.stress.nodal[i], m.nodes()[i], [0.0, 0.0])[1] / 1e6;
+    let c_in = ring(run, core, ri);
+    figures::fig9(
+        &c_in.iter().map(|&i| (deg(i), hoop(i))).collect::<Vec<_>>(),
+        &l_out.iter().map(|&i| (deg(i), hoop(i))).collect::<Vec<_>>(),
+    )
+    .write_svg_png(&dir.join("fig9_hoop_circumference"))?;
+
+    // interface: one row per point, sorted by θ
+    let rows = figures::interface_rows(&last.interface, [0.0, 0.0]);
+    write(
+        &dir.join("interface_final.csv"),
+        &figures::interface_csv(&rows),
+    )?;
+    figures::interface_pressure(
+        &rows,
+        Some(("two cylinders, plane-strain consistent", an[2].1.pressure())),
+    )
+    .write_svg_png(&dir.join("interface_contact_pressure"))?;
+    figures::interface_slip(&rows).write_svg_png(&dir.join("interface_slip"))?;
+    Ok(())
+}
+
+/// Runs `tecon vessel` (one analysis; `--study` goes to [`vessel::study`]):
+/// analysis, outputs, readable figures, yield check, report. Returns the
+/// warnings for `report.html`.
+pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<String>> {
+    let base = vessel::options(&args)?;
+    if let Some(s) = args.study.as_deref() {
+        if s != "mesh" {
+            return Err(format!("--study '{s}': the only study is 'mesh'").into());
+        }
+        vessel::study(&base, &args.out)?;
+        return Ok(Vec::new());
+    }
+    let out = &args.out;
+    let run = vessel::analyse(&base)?;
+    let mut v = vessel::summary(&run);
+    let timing = split_timing(&mut v);
+    let checks = yield_reports(&run, yield_stress);
+    v["yield_check"] = Value::Object(
+        checks
+            .iter()
+            .map(|(k, r)| (k.clone(), r.to_json()))
+            .collect(),
+    );
+    let mut warnings = Vec::new();
+    for (when, r) in &checks {
+        warnings.extend(r.warnings().into_iter().map(|w| format!("{when}: {w}")));
+    }
+    if !warnings.is_empty() {
+        v["warnings"] = json!(warnings);
+    }
+    vessel::write_outputs(&run, &v, out)?;
+    write_figures(&run, out)?;
+    write(
+        &out.join("timing.json"),
+        &(serde_json::to_string_pretty(&timing)? + "\n"),
+    )?;
+    let mut text = vessel::report(&run, &v);
+    for l in pressure_lines(&v) {
+        text += &l;
+        text.push('\n');
+    }
+    for (when, r) in &checks {
+        text += &format!("yield check {when}:\n");
+        for l in r.lines(true) {
+            text += &format!("  {l}\n");
+        }
+    }
+    for w in &warnings {
+        text += &format!("warning: {w}\n");
+    }
+    write(&out.join(REPORT_TEXT), &text)?;
+    print!("{text}");
+    println!("results in {}", out.display());
+    Ok(warnings)
+}
