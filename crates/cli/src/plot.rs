@@ -353,12 +353,10 @@ fn clip_segment(
             }
         }
     }
-    (t0 <= t1).then(|| {
-        (
-            (p.0 + t0 * dx, p.1 + t0 * dy),
-            (p.0 + t1 * dx, p.1 + t1 * dy),
-        )
-    })
+    (t0 <= t1).then_some((
+        (p.0 + t0 * dx, p.1 + t0 * dy),
+        (p.0 + t1 * dx, p.1 + t1 * dy),
+    ))
 }
 
 /// A polyline cut into the pieces that lie inside the box (non-finite points break it).
@@ -518,11 +516,9 @@ impl Panel {
                 let anno = chart
                     .draw_series(inside.into_iter().map(|p| Circle::new(p, 4, c.filled())))
                     .map_err(|e| err(path, e))?;
-                if first {
-                    if !l.label.is_empty() {
-                        legend = true;
-                        label_series(anno, l, c);
-                    }
+                if first && !l.label.is_empty() {
+                    legend = true;
+                    label_series(anno, l, c);
                 }
             }
         }

@@ -220,9 +220,9 @@ pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
 <title>{}</title><style>{STYLE}</style></head><body>\n",
         escape(&r.title)
     );
-    let _ = write!(
+    let _ = writeln!(
         h,
-        "<h1>{}</h1><p class=\"muted\">tecon {} · <code>{}</code></p>\n",
+        "<h1>{}</h1><p class=\"muted\">tecon {} · <code>{}</code></p>",
         escape(&r.title),
         env!("CARGO_PKG_VERSION"),
         escape(&r.command)
@@ -316,10 +316,10 @@ pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
             continue;
         };
         let rows = text.lines().count().saturating_sub(1);
-        if rows <= TABLE_ROWS {
-            if let Some(t) = csv_table(&text) {
-                let _ = writeln!(tables, "<h3>{}</h3>{t}", escape(n));
-            }
+        if rows <= TABLE_ROWS
+            && let Some(t) = csv_table(&text)
+        {
+            let _ = writeln!(tables, "<h3>{}</h3>{t}", escape(n));
         }
     }
     if !tables.is_empty() {

@@ -22,6 +22,8 @@ fn snapshots_carry_the_requested_times_bitwise() {
         .unwrap()
         .add_edge_bc("outer", EdgeBc::convection(10.25, 21.0))
         .unwrap()
+        .set_interface_conductance("core_layer", 850.0)
+        .unwrap()
         .set_initial_default(21.0)
         .unwrap()
         .set_initial_region("weld", 1132.0)
