@@ -134,6 +134,11 @@ fn ring(run: &VesselRun, body: usize, r: f64) -> Vec<usize> {
     v
 }
 
+/// Nodal temperature of a state (NaN without a thermal field).
+fn temp_at(r: &crate::driver::State, i: usize) -> f64 {
+    r.temperature.as_ref().map_or(f64::NAN, |t| t[i])
+}
+
 /// Writes the readable figures over the driver's first drafts (same names).
 pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
     let Some(last) = run.results.last() else {
@@ -155,14 +160,8 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
         .iter()
         .map(|r| RingTemperature {
             time: r.time,
-            inner: l_in
-                .iter()
-                .map(|&i| (deg(i), r.thermal.temperature[i]))
-                .collect(),
-            outer: l_out
-                .iter()
-                .map(|&i| (deg(i), r.thermal.temperature[i]))
-                .collect(),
+            inner: l_in.iter().map(|&i| (deg(i), temp_at(r, i))).collect(),
+            outer: l_out.iter().map(|&i| (deg(i), temp_at(r, i))).collect(),
         })
         .collect();
     figures::fig6(&rings).write_svg_png(&dir.join("fig6_temperature_circumference"))?;
@@ -189,11 +188,10 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
         let (cc, lc) = (column(core, &core_r, angle), column(layer, &layer_r, angle));
         let actual = lc.first().map_or(angle, |&i| deg(i));
         for r in &run.results {
-            let t = &r.thermal.temperature;
             let pts = |nodes: &[usize]| -> Vec<(f64, f64)> {
                 nodes
                     .iter()
-                    .map(|&i| (wall(m.nodes()[i][0].hypot(m.nodes()[i][1])), t[i]))
+                    .map(|&i| (wall(m.nodes()[i][0].hypot(m.nodes()[i][1])), temp_at(r, i)))
                     .collect()
             };
             profiles.push(WallTemperature {
