@@ -485,7 +485,7 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         ),
     );
     s += &format!(
-        "Newton: {} iterations in {} increments, at most {} in one pass (at most {} outer updates of multipliers and friction limits); {} factorisations, {} reused, {} low-rank corrected\n",
+        "Newton: {} iterations in {} increments, at most {} in one increment, all passes counted (at most {} outer updates of multipliers and friction limits); {} factorisations, {} reused, {} low-rank corrected\n",
         run.newton.iterations,
         run.newton.increments,
         v["newton"]["max_iterations_per_increment"],
