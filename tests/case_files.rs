@@ -289,6 +289,45 @@ fn gmsh_physical_group_the_mesh_lacks_is_named() {
     assert!(e.contains("gmsh.toml") && e.contains("no_such_face"), "{e}");
 }
 
+/// The pairing tolerance of a Gmsh interface: a valid fraction pairs the
+/// faces as before; a value outside (0, 0.5), or one given for an interface
+/// the generator makes, is an error naming the key.
+#[test]
+fn pairing_tolerance_key() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/mesh/tests/data");
+    let gmsh = |tol: &str| {
+        format!(
+            "[mesh]\nfile = \"two_blocks.msh\"\n[[interface]]\nname = \"joint\"\nbottom = \"left_face\"\ntop = \"right_face\"\npairing_tolerance = {tol}\n"
+        )
+    };
+    let base = std::fs::read_to_string(cases_dir().join("two_blocks.toml")).unwrap();
+    let with_tol = base.replacen(
+        "[[interface]]\n",
+        "[[interface]]\npairing_tolerance = 1e-3\n",
+        1,
+    );
+    assert_ne!(with_tol, base, "two_blocks.toml declares an interface");
+    let c = case::parse(&with_tol, &cases_dir().join("two_blocks.toml")).unwrap();
+    let res = case::execute(&c, &cases_dir()).unwrap();
+    assert_eq!(num(&res.summary, "/mesh/interface_elements"), 4.0);
+    for bad in ["0.7", "0.0", "-1e-3"] {
+        let c = case::parse(&gmsh(bad), Path::new("tol.toml")).unwrap();
+        let e = case::execute(&c, &data).unwrap_err().to_string();
+        assert!(
+            e.contains("tol.toml") && e.contains("pairing_tolerance") && e.contains("(0, 0.5)"),
+            "{bad}: {e}"
+        );
+    }
+    let (e, _dir) = error_of(&edited(
+        "name = \"inner_outer\"",
+        "name = \"inner_outer\"\npairing_tolerance = 1e-3",
+    ));
+    assert!(
+        e.contains("pairing_tolerance") && e.contains("generator"),
+        "{e}"
+    );
+}
+
 /// A Gmsh mesh with an interface declared from two physical curves: two
 /// blocks pushed together by a uniform pressure carry it unchanged across
 /// the contact.

@@ -209,6 +209,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             name: name.clone(),
             bottom: None,
             top: None,
+            pairing_tolerance: None,
             conductance: Some(if o.contact_conductance {
                 vessel_contact_conductance(d)
             } else {

@@ -160,6 +160,11 @@ pub struct InterfaceSection {
     pub bottom: Option<String>,
     /// Edge set of the top face.
     pub top: Option<String>,
+    /// How far facing nodes may lie apart when the faces are paired, as a
+    /// fraction of the local element size (default 1e-4; Gmsh places the nodes
+    /// of two separately meshed arcs a few nm apart). Facing nodes must
+    /// coincide: this only absorbs round-off, in (0, 0.5).
+    pub pairing_tolerance: Option<f64>,
     /// Thermal conductance: h_c in W/(m² K), or an `[interface.conductance]`
     /// table with a law; absent: adiabatic.
     pub conductance: Option<toml::Value>,

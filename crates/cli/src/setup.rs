@@ -422,8 +422,30 @@ pub(crate) fn declare_interfaces(case: &Case, mesh: &mut Mesh) -> CliResult<()> 
                         ),
                     ));
                 }
-                mesh.add_interface(&i.name, b, t, None)
+                let tol = match i.pairing_tolerance {
+                    None => tecon_mesh::PairingTolerance::default(),
+                    Some(x) if x.is_finite() && x > 0.0 && x < 0.5 => {
+                        tecon_mesh::PairingTolerance::Relative(x)
+                    }
+                    Some(x) => {
+                        return Err(err(
+                            f,
+                            format!(
+                                "{key}.pairing_tolerance = {x}: give a fraction of the local element size in (0, 0.5); facing nodes must coincide, the tolerance only absorbs round-off"
+                            ),
+                        ));
+                    }
+                };
+                mesh.add_interface_with(&i.name, b, t, tol)
                     .map_err(|e| err(f, format!("{key}: {e}")))?;
+            }
+            (None, None) if i.pairing_tolerance.is_some() => {
+                return Err(err(
+                    f,
+                    format!(
+                        "{key}.pairing_tolerance: the mesh generator pairs its own interfaces exactly; give it only with bottom and top edge sets"
+                    ),
+                ));
             }
             (None, None) => {
                 mesh.interface(&i.name).map_err(|e| {
