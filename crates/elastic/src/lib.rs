@@ -13,6 +13,12 @@
 //! * Stress recovery: element and nodal stresses, polar components, von Mises;
 //!   for 6-node triangles SPR per region and the ZZ indicator ([`recovery`]).
 //! * [`analytical`]: closed-form solutions used for verification.
+//! * Staged construction (layer after layer): [`ElasticModel::active_regions`]
+//!   keeps the other triangles out of the system (their free nodes held),
+//!   [`ElasticModel::interface_reference`] lets an interface activated on a
+//!   deformed assembly measure its jumps from the displacements at
+//!   activation, [`StaticSolver::state`] / [`StaticSolver::resume`] carry
+//!   the state from one stage's solver to the next.
 //!
 //! # Glossary
 //! * u = (u_x, u_y): displacement; ε = (ε_xx, ε_yy, γ_xy), ε_zz; σ = (σ_xx, σ_yy, σ_xy), σ_zz.
@@ -21,6 +27,8 @@
 //! * Plane strain free thermal strain in the plane: (1 + ν) α ΔT.
 //! * σ_rr, σ_θθ, σ_rθ: polar components about a centre; σ_θθ is the hoop stress.
 //! * ⟦u⟧ = [Δu_t, Δu_n]: interface jump; [τ, σ]: interface traction (σ > 0 tension).
+//! * u_ref: reference displacements of an interface, ⟦u⟧ = B (u − u_ref)
+//!   (zero unless the interface was activated on a deformed assembly).
 //! * R: residual f_ext − f_int; K_T: consistent tangent.
 //! * σ*: recovered (SPR) stress; η_e: Zienkiewicz–Zhu indicator of element e.
 
@@ -33,6 +41,7 @@ mod model;
 pub mod recovery;
 mod rotation;
 mod solver;
+mod staging;
 
 pub use error::{ElasticError, IterationRecord};
 pub use joint::Joint;
@@ -43,6 +52,6 @@ pub use kernels::{
 pub use material::{Analysis, Material};
 pub use model::{Component, ElasticModel, InterfaceNormals, ModelInterface};
 pub use solver::{
-    IncrementReport, InterfacePointResult, Loads, SolverOptions, StaticSolver, StressField,
-    nodal_displacement, polar, stresses, von_mises,
+    IncrementReport, InterfacePointResult, Loads, SolverOptions, SolverState, StaticSolver,
+    StressField, nodal_displacement, polar, stresses, von_mises,
 };

@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 use tecon_contact::nalgebra::{Point2, Vector2};
-use tecon_contact::{InterfaceElement, InterfaceQuadrature};
+use tecon_contact::{InterfaceElement, InterfaceQuadrature, Vector8};
 use tecon_fem::DofMap;
 use tecon_mesh::Mesh;
 
@@ -50,6 +50,27 @@ pub struct ModelInterface {
     pub nodes: Vec<[usize; 4]>,
     /// Element kernels (geometry and quadrature).
     pub elements: Vec<InterfaceElement>,
+    /// Reference displacements (2 per node, the whole mesh) from which the
+    /// jumps are measured: ⟦u⟧ = B (u − u_ref). None: u_ref = 0. A layer
+    /// wrapped onto a deformed assembly takes the displacements at its
+    /// activation, so it starts with a zero jump (tight, stress free).
+    pub reference: Option<Vec<f64>>,
+}
+
+impl ModelInterface {
+    /// Local displacement vector of element `e` relative to the reference,
+    /// in the node order [1, 2, 3, 4] (x, y each).
+    #[inline]
+    pub fn local_u(&self, e: usize, u: &[f64]) -> Vector8 {
+        let n = self.nodes[e];
+        match &self.reference {
+            None => Vector8::from_fn(|i, _| u[2 * n[i / 2] + i % 2]),
+            Some(r) => Vector8::from_fn(|i, _| {
+                let d = 2 * n[i / 2] + i % 2;
+                u[d] - r[d]
+            }),
+        }
+    }
 }
 
 /// A plane elastic model on a mesh.
@@ -66,6 +87,9 @@ pub struct ElasticModel<'m> {
     pub(crate) quadrature: InterfaceQuadrature,
     pub(crate) normals: InterfaceNormals,
     pub(crate) remove_free_translations: bool,
+    /// Which triangles are in the system (None: all). See
+    /// [`ElasticModel::active_regions`].
+    pub(crate) active: Option<Vec<bool>>,
 }
 
 /// Tolerance on |n_x| or |n_y| ≈ 1 for treating a symmetry edge as axis-aligned.
@@ -86,6 +110,7 @@ impl<'m> ElasticModel<'m> {
             quadrature: InterfaceQuadrature::default(),
             normals: InterfaceNormals::default(),
             remove_free_translations: false,
+            active: None,
         }
     }
 
@@ -293,6 +318,7 @@ impl<'m> ElasticModel<'m> {
             law,
             nodes,
             elements,
+            reference: None,
         });
         Ok(self)
     }

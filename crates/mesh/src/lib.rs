@@ -41,8 +41,8 @@ pub use interface::{DEFAULT_PAIRING_TOLERANCE, Interface, PairingTolerance};
 pub use mesh::{Body, COINCIDENCE_TOLERANCE, Mesh, MeshNotice, Point, signed_area};
 pub use msh::read_msh;
 pub use multilayer::{
-    MultilayerGeometry, MultilayerMeshSpec, WeldedLayer, multilayer_station_angles,
-    multilayer_vessel_mesh,
+    MultilayerGeometry, MultilayerMeshSpec, WeldedLayer, multilayer_stage_mesh,
+    multilayer_station_angles, multilayer_vessel_mesh,
 };
 pub use quadratic::Arc;
 pub use vessel::{

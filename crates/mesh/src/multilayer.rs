@@ -349,12 +349,33 @@ pub fn multilayer_vessel_mesh(
     geo: &MultilayerGeometry,
     spec: &MultilayerMeshSpec,
 ) -> Result<Mesh, MeshError> {
+    multilayer_stage_mesh(geo, spec, geo.layers.len())
+}
+
+/// The mesh of the core and the first `layers` layers of `geo` as they
+/// stand during staged construction: the node stations and the symmetry of
+/// the whole geometry, and the same numbering as the whole mesh (its nodes
+/// and triangles are the first ones of [`multilayer_vessel_mesh`]'s, its
+/// regions the first names). Edge set `outer` is the outer surface of layer
+/// `layers`. Errors: `layers` zero or more than the geometry has.
+pub fn multilayer_stage_mesh(
+    geo: &MultilayerGeometry,
+    spec: &MultilayerMeshSpec,
+    layers: usize,
+) -> Result<Mesh, MeshError> {
     let theta = multilayer_station_angles(geo, spec)?;
+    if layers == 0 || layers > geo.layers.len() {
+        return Err(MeshError::InvalidParameter {
+            name: "layers",
+            value: layers.to_string(),
+            reason: format!("a stage has 1 to {} layers", geo.layers.len()),
+        });
+    }
     let half = geo.is_symmetric();
     let ns = theta.len();
     let intervals = if half { ns - 1 } else { ns };
     let radii = geo.radii();
-    let n_rings = radii.len() - 1;
+    let n_rings = layers + 1;
     let rows = |ring: usize| {
         if ring == 0 {
             spec.core_rows

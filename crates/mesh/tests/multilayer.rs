@@ -191,3 +191,39 @@ fn bad_layers_are_refused_by_name() {
     };
     assert!(multilayer_vessel_mesh(&five_staggered(), &bad_spec).is_err());
 }
+
+/// A stage mesh is the prefix of the whole mesh: same stations and
+/// numbering, the first nodes, triangles and regions, its own outer surface.
+#[test]
+fn stage_meshes_are_prefixes_of_the_whole_mesh() {
+    use tecon_mesh::multilayer_stage_mesh;
+    let geo = MultilayerGeometry::staggered(0.762, 12.7e-3, 3, 6.4e-3, 3.8e-3);
+    let spec = MultilayerMeshSpec::default();
+    let whole = multilayer_vessel_mesh(&geo, &spec).unwrap();
+    for k in 1..=3 {
+        let m = multilayer_stage_mesh(&geo, &spec, k).unwrap();
+        assert_eq!(m.nodes(), &whole.nodes()[..m.n_nodes()]);
+        assert_eq!(m.triangles(), &whole.triangles()[..m.n_triangles()]);
+        assert_eq!(m.region_names(), &whole.region_names()[..1 + 2 * k]);
+        assert_eq!(
+            m.element_regions(),
+            &whole.element_regions()[..m.n_triangles()]
+        );
+        assert_eq!(m.interfaces().len(), k);
+        let r_out = geo.radii()[k + 1];
+        for v in m.edge_set_nodes("outer").unwrap() {
+            let p = m.nodes()[v];
+            assert!((p[0].hypot(p[1]) - r_out).abs() < 1e-12);
+        }
+    }
+    assert_eq!(
+        multilayer_stage_mesh(&geo, &spec, 3).unwrap().n_triangles(),
+        whole.n_triangles()
+    );
+    for bad in [0, 4] {
+        let e = multilayer_stage_mesh(&geo, &spec, bad)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("layers"), "{e}");
+    }
+}

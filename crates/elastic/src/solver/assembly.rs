@@ -69,12 +69,20 @@ pub(super) struct InterfaceSet<'a> {
     pub(super) law: &'a Joint,
     pub(super) u: &'a [f64],
     pub(super) committed: &'a [[JointState; 2]],
+    /// Reference displacements the jumps are measured from (staging).
+    pub(super) reference: Option<&'a [f64]>,
 }
 
 impl InterfaceSet<'_> {
     pub(super) fn local_u(&self, e: usize) -> Vector8 {
         let n = self.nodes[e];
-        Vector8::from_fn(|i, _| self.u[2 * n[i / 2] + i % 2])
+        match self.reference {
+            None => Vector8::from_fn(|i, _| self.u[2 * n[i / 2] + i % 2]),
+            Some(r) => Vector8::from_fn(|i, _| {
+                let d = 2 * n[i / 2] + i % 2;
+                self.u[d] - r[d]
+            }),
+        }
     }
 }
 
@@ -172,6 +180,7 @@ impl StaticSolver<'_> {
                 law: &self.laws[k],
                 u,
                 committed: &committed[k],
+                reference: itf.reference.as_deref(),
             };
             match kt.as_deref_mut() {
                 Some(m) => self.assembler.add::<8, _>(
@@ -203,11 +212,9 @@ impl StaticSolver<'_> {
             .map(|((itf, law), states)| {
                 itf.elements
                     .iter()
-                    .zip(&itf.nodes)
                     .zip(states)
-                    .map(|((el, n), st)| {
-                        el.evaluate(law, &Vector8::from_fn(|i, _| u[2 * n[i / 2] + i % 2]), st)
-                    })
+                    .enumerate()
+                    .map(|(e, (el, st))| el.evaluate(law, &itf.local_u(e, u), st))
                     .collect()
             })
             .collect()

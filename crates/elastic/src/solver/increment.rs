@@ -1,7 +1,7 @@
 //! Load increments: cut-back on failure, and per increment the outer
 //! passes (augmented-Lagrangian multipliers, frozen friction limits).
 
-use tecon_contact::{FrictionBound, Vector8};
+use tecon_contact::FrictionBound;
 
 use crate::error::{ElasticError, IterationRecord};
 
@@ -129,14 +129,14 @@ impl StaticSolver<'_> {
                 .zip(committed.iter_mut())
                 .zip(self.responses(&u, &start))
             {
-                for (((el, n), st), r) in itf
+                for (e, ((el, st), r)) in itf
                     .elements
                     .iter()
-                    .zip(&itf.nodes)
                     .zip(states.iter_mut())
                     .zip(&responses)
+                    .enumerate()
                 {
-                    let ue = Vector8::from_fn(|i, _| u[2 * n[i / 2] + i % 2]);
+                    let ue = itf.local_u(e, &u);
                     for p in &r.points {
                         max_p = max_p.max(-p.traction.y);
                     }

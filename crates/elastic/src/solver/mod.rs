@@ -31,9 +31,11 @@ mod line_search;
 mod newton;
 pub mod options;
 mod recovery;
+mod staging;
 
 pub use options::{IncrementReport, InterfacePointResult, Loads, SolverOptions};
 pub use recovery::{StressField, nodal_displacement, polar, stresses, von_mises};
+pub use staging::SolverState;
 
 use tecon_contact::{ContactStatus, JointState};
 use tecon_fem::{
@@ -94,7 +96,16 @@ impl<'a> StaticSolver<'a> {
                 ),
             });
         }
-        let materials = model.element_materials()?;
+        let mut materials = model.element_materials()?;
+        // staged construction: an inactive triangle has no stiffness and no
+        // thermal load (E = 0), and its nodes are held (below)
+        for (e, m) in materials.iter_mut().enumerate() {
+            if !model.is_active(e) {
+                m.youngs_modulus = 0.0;
+            }
+        }
+        let inactive = model.inactive_nodes();
+        staging::check_interfaces_active(model, &inactive)?;
         let n = model.n_dofs();
         let bulk_set = Bulk {
             nodes: mesh.nodes(),
@@ -140,6 +151,12 @@ impl<'a> StaticSolver<'a> {
             if !dirichlet.contains(2 * node) {
                 dirichlet.set(2 * node, 0.0);
             }
+        }
+        for &node in &inactive {
+            // not in the system yet: both components held at zero (in the
+            // rotated frame too: both zero either way)
+            dirichlet.set(2 * node, 0.0);
+            dirichlet.set(2 * node + 1, 0.0);
         }
         let prepared = dirichlet.prepare(assembler.pattern())?;
         let dm = model.dofmap();

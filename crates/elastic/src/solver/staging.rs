@@ -1,0 +1,146 @@
+//! Staged construction: a solver started from the committed state of
+//! another solver of the same mesh, and the check that a staged model's
+//! interfaces join active triangles only.
+
+use tecon_contact::JointState;
+
+use crate::error::ElasticError;
+use crate::model::ElasticModel;
+
+use super::{Loads, StaticSolver};
+
+/// Every interface of a staged model must join active triangles only.
+pub(super) fn check_interfaces_active(
+    model: &ElasticModel<'_>,
+    inactive: &[usize],
+) -> Result<(), ElasticError> {
+    if inactive.is_empty() {
+        return Ok(());
+    }
+    for itf in &model.interfaces {
+        for (k, n) in itf.nodes.iter().enumerate() {
+            if let Some(v) = n.iter().find(|v| inactive.binary_search(v).is_ok()) {
+                return Err(ElasticError::Interface {
+                    interface: itf.name.clone(),
+                    element: k,
+                    message: format!(
+                        "node {v} belongs to no active triangle: an interface can join active regions only"
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The committed state of a solver, owned, to start another solver of the
+/// same mesh from it (staged construction: the next stage's model has more
+/// active regions and interfaces).
+#[derive(Debug, Clone)]
+pub struct SolverState {
+    /// Committed displacements as solved (no output gauge).
+    pub displacement: Vec<f64>,
+    /// Committed joint states by interface name.
+    pub interfaces: Vec<(String, Vec<[JointState; 2]>)>,
+    /// Committed loads.
+    pub loads: Loads,
+}
+
+impl SolverState {
+    /// The unloaded state of a model with `n_dofs` unknowns.
+    pub fn unloaded(n_dofs: usize) -> Self {
+        SolverState {
+            displacement: vec![0.0; n_dofs],
+            interfaces: Vec::new(),
+            loads: Loads::zero(),
+        }
+    }
+
+    /// Seeds the frozen friction limit (the pressure in c + p tan φ) of
+    /// every point of interface `name` (`elements` elements) with
+    /// `pressure`, for an interface about to be activated. With frozen
+    /// limits the first Tresca pass of a new interface would see the limit
+    /// c = 0 everywhere: every point slips and a ring held by nothing else
+    /// (a full ring, no symmetry plane) is free to spin, a singular
+    /// tangent. The seed is only the starting guess of the outer loop:
+    /// the passes go on until the limits equal the computed pressures.
+    pub fn seed_friction_pressure(&mut self, name: &str, elements: usize, pressure: f64) {
+        let st = JointState {
+            friction_pressure: pressure.max(0.0),
+            ..JointState::default()
+        };
+        self.interfaces.retain(|(n, _)| n != name);
+        self.interfaces
+            .push((name.to_string(), vec![[st; 2]; elements]));
+    }
+}
+
+impl StaticSolver<'_> {
+    /// The committed state, owned.
+    pub fn state(&self) -> SolverState {
+        SolverState {
+            displacement: self.u.clone(),
+            interfaces: self
+                .model
+                .interfaces
+                .iter()
+                .map(|i| i.name.clone())
+                .zip(self.states.iter().cloned())
+                .collect(),
+            loads: self.loads.clone(),
+        }
+    }
+
+    /// Starts from `state` (of a solver on the same mesh): displacements,
+    /// loads and the joint states of the interfaces of the same name; an
+    /// interface new to this model starts from its initial state. Errors: a
+    /// different number of unknowns, an interface of another length, or a
+    /// node held by this model (inactive) that moved.
+    pub fn resume(&mut self, state: &SolverState) -> Result<(), ElasticError> {
+        let n = self.model.n_dofs();
+        if state.displacement.len() != n {
+            return Err(ElasticError::Input {
+                what: "resumed state".into(),
+                message: format!(
+                    "{} displacement values for {n} unknowns (another mesh?)",
+                    state.displacement.len()
+                ),
+            });
+        }
+        for node in self.model.inactive_nodes() {
+            let (x, y) = (
+                state.displacement[2 * node],
+                state.displacement[2 * node + 1],
+            );
+            if x != 0.0 || y != 0.0 {
+                return Err(ElasticError::Input {
+                    what: "resumed state".into(),
+                    message: format!(
+                        "node {node} is inactive in this model but moved ({x:e}, {y:e}) m: stages can only add regions"
+                    ),
+                });
+            }
+        }
+        for (k, itf) in self.model.interfaces.iter().enumerate() {
+            if let Some((_, st)) = state.interfaces.iter().find(|(name, _)| *name == itf.name) {
+                if st.len() != itf.nodes.len() {
+                    return Err(ElasticError::Interface {
+                        interface: itf.name.clone(),
+                        element: st.len().min(itf.nodes.len()),
+                        message: format!(
+                            "the resumed state has {} elements, the model {}",
+                            st.len(),
+                            itf.nodes.len()
+                        ),
+                    });
+                }
+                self.states[k].clone_from(st);
+            }
+        }
+        self.u.clone_from(&state.displacement);
+        self.loads = state.loads.clone();
+        self.points.clear();
+        self.update_gauge();
+        Ok(())
+    }
+}
