@@ -127,7 +127,7 @@ impl ElasticModel<'_> {
             .abs()
             .max(x[west][0].abs())
             .max(x[north][1].abs());
-        if !(det.abs() > 1e-6 * scale) {
+        if det.is_nan() || det.abs() <= 1e-6 * scale {
             return Err(ElasticError::Input {
                 what: format!("edge set '{edge_set}'"),
                 message: format!(
