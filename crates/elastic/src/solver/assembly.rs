@@ -68,7 +68,7 @@ pub(super) struct InterfaceSet<'a> {
     pub(super) elements: &'a [InterfaceElement],
     pub(super) law: &'a Joint,
     pub(super) u: &'a [f64],
-    pub(super) committed: &'a [[JointState; 2]],
+    pub(super) committed: &'a PointStates,
     /// Reference displacements the jumps are measured from (staging).
     pub(super) reference: Option<&'a [f64]>,
 }
@@ -96,7 +96,8 @@ impl Element<8> for InterfaceSet<'_> {
     }
     #[inline]
     fn local(&self, e: usize) -> LocalSystem<8> {
-        let r = self.elements[e].evaluate(self.law, &self.local_u(e), &self.committed[e]);
+        let r =
+            self.elements[e].evaluate(self.law, &self.local_u(e), self.committed.element_array(e));
         LocalSystem {
             matrix: r.tangent,
             vector: r.force,
@@ -154,7 +155,7 @@ impl StaticSolver<'_> {
     pub(super) fn tangent_and_force(
         &self,
         u: &[f64],
-        committed: &[Vec<[JointState; 2]>],
+        committed: &[PointStates],
         with_matrix: bool,
     ) -> Result<(Option<CsrMatrix>, Vec<f64>), ElasticError> {
         let mut f_int = vec![0.0; u.len()];
@@ -169,7 +170,7 @@ impl StaticSolver<'_> {
     pub(super) fn add_interfaces(
         &self,
         u: &[f64],
-        committed: &[Vec<[JointState; 2]>],
+        committed: &[PointStates],
         mut kt: Option<&mut CsrMatrix>,
         f_int: &mut [f64],
     ) -> Result<(), ElasticError> {
@@ -202,7 +203,7 @@ impl StaticSolver<'_> {
     pub(super) fn responses(
         &self,
         u: &[f64],
-        committed: &[Vec<[JointState; 2]>],
+        committed: &[PointStates],
     ) -> Vec<Vec<ElementResponse<JointState>>> {
         self.model
             .interfaces
@@ -212,9 +213,8 @@ impl StaticSolver<'_> {
             .map(|((itf, law), states)| {
                 itf.elements
                     .iter()
-                    .zip(states)
                     .enumerate()
-                    .map(|(e, (el, st))| el.evaluate(law, &itf.local_u(e, u), st))
+                    .map(|(e, el)| el.evaluate(law, &itf.local_u(e, u), states.element_array(e)))
                     .collect()
             })
             .collect()
@@ -222,11 +222,7 @@ impl StaticSolver<'_> {
 
     /// Status (with the slip direction) and traction magnitude |τ| + |σ| of
     /// every interface point.
-    pub(super) fn statuses(
-        &self,
-        u: &[f64],
-        committed: &[Vec<[JointState; 2]>],
-    ) -> Vec<(PointStatus, f64)> {
+    pub(super) fn statuses(&self, u: &[f64], committed: &[PointStates]) -> Vec<(PointStatus, f64)> {
         self.responses(u, committed)
             .iter()
             .flatten()
@@ -242,14 +238,10 @@ impl StaticSolver<'_> {
             .collect()
     }
 
-    pub(super) fn trial_states(&self, u: &[f64], committed: &[Vec<[JointState; 2]>]) -> States {
+    pub(super) fn trial_states(&self, u: &[f64], committed: &[PointStates]) -> States {
         self.responses(u, committed)
             .iter()
-            .map(|v| {
-                v.iter()
-                    .map(|r| [r.points[0].state, r.points[1].state])
-                    .collect()
-            })
+            .map(|v| PointStates::from_elements(v.iter().map(|r| r.points.map(|p| p.state))))
             .collect()
     }
 
@@ -264,7 +256,7 @@ impl StaticSolver<'_> {
     pub(super) fn point_results(
         &self,
         u: &[f64],
-        committed: &[Vec<[JointState; 2]>],
+        committed: &[PointStates],
     ) -> Vec<InterfacePointResult> {
         let x = self.model.mesh.nodes();
         let mut out = Vec::new();

@@ -129,13 +129,8 @@ impl StaticSolver<'_> {
                 .zip(committed.iter_mut())
                 .zip(self.responses(&u, &start))
             {
-                for (e, ((el, st), r)) in itf
-                    .elements
-                    .iter()
-                    .zip(states.iter_mut())
-                    .zip(&responses)
-                    .enumerate()
-                {
+                for (e, (el, r)) in itf.elements.iter().zip(&responses).enumerate() {
+                    let st = states.element_array_mut(e);
                     let ue = itf.local_u(e, &u);
                     for p in &r.points {
                         max_p = max_p.max(-p.traction.y);

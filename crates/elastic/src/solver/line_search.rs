@@ -1,7 +1,5 @@
 //! Line searches along a Newton direction.
 
-use tecon_contact::JointState;
-
 use crate::error::ElasticError;
 
 use super::*;
@@ -15,7 +13,7 @@ impl StaticSolver<'_> {
     pub(super) fn energy_line_search(
         &self,
         f_ext: &[f64],
-        committed: &[Vec<[JointState; 2]>],
+        committed: &[PointStates],
         u: &[f64],
         du: &[f64],
         du_rotated: &[f64],
@@ -81,7 +79,7 @@ impl StaticSolver<'_> {
     pub(super) fn residual_line_search(
         &self,
         f_ext: &[f64],
-        committed: &[Vec<[JointState; 2]>],
+        committed: &[PointStates],
         u: &[f64],
         du: &[f64],
         r: &[f64],

@@ -32,12 +32,14 @@ mod newton;
 pub mod options;
 mod recovery;
 mod staging;
+mod states;
 
 pub use options::{IncrementReport, InterfacePointResult, Loads, SolverOptions};
 pub use recovery::{StressField, nodal_displacement, polar, stresses, von_mises};
 pub use staging::SolverState;
+pub use states::PointStates;
 
-use tecon_contact::{ContactStatus, JointState};
+use tecon_contact::ContactStatus;
 use tecon_fem::{
     Assembler, AssemblerBuilder, BlockId, CsrMatrix, Dirichlet, FemError, LuSolver, Parallelism,
     PreparedDirichlet, RigidMode, UpdateStats, UpdatedCholesky, check_rigid_modes,
@@ -75,7 +77,7 @@ pub struct StaticSolver<'a> {
     /// Translations fixed by a minimal constraint, removed again from the
     /// output displacements.
     gauges: Vec<Gauge>,
-    states: Vec<Vec<[JointState; 2]>>,
+    states: States,
     loads: Loads,
     notes: Vec<String>,
     points: Vec<InterfacePointResult>,
@@ -170,7 +172,7 @@ impl<'a> StaticSolver<'a> {
         let states = model
             .interfaces
             .iter()
-            .map(|i| vec![[JointState::default(); 2]; i.nodes.len()])
+            .map(|i| PointStates::new(i.nodes.len(), 2))
             .collect();
         let laws = model
             .interfaces
@@ -273,8 +275,8 @@ impl<'a> StaticSolver<'a> {
             .unwrap_or_default()
     }
 
-    /// Committed interface states.
-    pub fn interface_states(&self) -> &[Vec<[JointState; 2]>] {
+    /// Committed interface states, one [`PointStates`] per interface.
+    pub fn interface_states(&self) -> &[PointStates] {
         &self.states
     }
 
@@ -416,7 +418,8 @@ struct Gauge {
     nodes: Vec<usize>,
 }
 
-type States = Vec<Vec<[JointState; 2]>>;
+/// Joint states of every interface of the model.
+type States = Vec<PointStates>;
 
 /// Two displacement components per node (the node count is not needed to
 /// number an element's dofs).

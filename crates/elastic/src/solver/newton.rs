@@ -1,6 +1,6 @@
 //! One Newton pass at fixed multipliers and friction limits.
 
-use tecon_contact::{FrictionBound, JointState};
+use tecon_contact::FrictionBound;
 use tecon_fem::FemError;
 
 use crate::error::{ElasticError, IterationRecord};
@@ -12,7 +12,7 @@ impl StaticSolver<'_> {
         &mut self,
         f_ext: &[f64],
         loads: &Loads,
-        committed: &[Vec<[JointState; 2]>],
+        committed: &[PointStates],
         mut u: Vec<f64>,
     ) -> Result<(Vec<f64>, Vec<IterationRecord>), ElasticError> {
         // Prescribed values at this load level (global frame; rotated dofs are 0).

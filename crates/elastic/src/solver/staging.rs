@@ -7,7 +7,7 @@ use tecon_contact::JointState;
 use crate::error::ElasticError;
 use crate::model::ElasticModel;
 
-use super::{Loads, StaticSolver};
+use super::{Loads, PointStates, StaticSolver};
 
 /// Every interface of a staged model must join active triangles only.
 pub(super) fn check_interfaces_active(
@@ -40,8 +40,9 @@ pub(super) fn check_interfaces_active(
 pub struct SolverState {
     /// Committed displacements as solved (no output gauge).
     pub displacement: Vec<f64>,
-    /// Committed joint states by interface name.
-    pub interfaces: Vec<(String, Vec<[JointState; 2]>)>,
+    /// Committed joint states by interface name (a seed may hold one state
+    /// per element, given to each of the element's points on resuming).
+    pub interfaces: Vec<(String, PointStates)>,
     /// Committed loads.
     pub loads: Loads,
 }
@@ -70,8 +71,11 @@ impl SolverState {
             ..JointState::default()
         };
         self.interfaces.retain(|(n, _)| n != name);
-        self.interfaces
-            .push((name.to_string(), vec![[st; 2]; elements]));
+        let mut seed = PointStates::new(elements, 1);
+        for e in 0..elements {
+            seed.element_mut(e)[0] = st;
+        }
+        self.interfaces.push((name.to_string(), seed));
     }
 }
 
@@ -123,18 +127,32 @@ impl StaticSolver<'_> {
         }
         for (k, itf) in self.model.interfaces.iter().enumerate() {
             if let Some((_, st)) = state.interfaces.iter().find(|(name, _)| *name == itf.name) {
-                if st.len() != itf.nodes.len() {
+                if st.n_elements() != itf.nodes.len() {
                     return Err(ElasticError::Interface {
                         interface: itf.name.clone(),
-                        element: st.len().min(itf.nodes.len()),
+                        element: st.n_elements().min(itf.nodes.len()),
                         message: format!(
                             "the resumed state has {} elements, the model {}",
-                            st.len(),
+                            st.n_elements(),
                             itf.nodes.len()
                         ),
                     });
                 }
-                self.states[k].clone_from(st);
+                let per_element = self.states[k].per_element();
+                if st.per_element() == per_element {
+                    self.states[k].clone_from(st);
+                } else if st.per_element() == 1 {
+                    self.states[k] = st.broadcast(per_element);
+                } else {
+                    return Err(ElasticError::Interface {
+                        interface: itf.name.clone(),
+                        element: 0,
+                        message: format!(
+                            "the resumed state has {} integration points per element, the model {per_element} (another element order?)",
+                            st.per_element()
+                        ),
+                    });
+                }
             }
         }
         self.u.clone_from(&state.displacement);
