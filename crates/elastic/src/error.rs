@@ -6,7 +6,10 @@ use tecon_mesh::MeshError;
 /// One Newton iteration, for histories in reports and errors.
 #[derive(Debug, Clone, PartialEq)]
 pub struct IterationRecord {
-    /// Iteration number (0 = the predictor).
+    /// Newton pass of the increment (1-based; each outer update of the
+    /// multipliers or friction limits starts a new pass).
+    pub pass: usize,
+    /// Iteration number within the pass (0 = the predictor).
     pub iteration: usize,
     /// ‖R‖ / reference force.
     pub residual: f64,
@@ -18,15 +21,22 @@ pub struct IterationRecord {
     pub status: [usize; 3],
     /// Points whose status changed since the previous iterate.
     pub changed: usize,
+    /// Round-off floor of the residual, relative to the same reference:
+    /// `ε · ‖ |K_t| |u| + |f_ext| ‖` times a safety factor. A residual at
+    /// this level cannot be reduced by more iterations (stiff penalties
+    /// make it large), so the iteration converges at the larger of the
+    /// tolerance and this floor.
+    pub floor: f64,
 }
 
 impl std::fmt::Display for IterationRecord {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "it {:>2}: |R|/ref = {:.3e}, |du|/|u| = {:.3e}, step {:.3}, open/stick/slip = {}/{}/{}, changed {}",
+            "it {:>2}: |R|/ref = {:.3e} (floor {:.1e}), |du|/|u| = {:.3e}, step {:.3}, open/stick/slip = {}/{}/{}, changed {}",
             self.iteration,
             self.residual,
+            self.floor,
             self.correction,
             self.step,
             self.status[0],
@@ -37,8 +47,26 @@ impl std::fmt::Display for IterationRecord {
     }
 }
 
+/// The iterations one a line, with a header whenever a new pass starts.
 fn format_history(h: &[IterationRecord]) -> String {
-    h.iter().map(|r| format!("\n  {r}")).collect()
+    let mut out = String::new();
+    let mut pass = usize::MAX;
+    for r in h {
+        if r.pass != pass {
+            pass = r.pass;
+            out.push_str(&format!("\n  pass {pass}:"));
+        }
+        out.push_str(&format!("\n    {r}"));
+    }
+    out
+}
+
+fn format_attempts(a: &[String]) -> String {
+    if a.is_empty() {
+        return String::new();
+    }
+    let lines: String = a.iter().map(|x| format!("\n  {x}")).collect();
+    format!("; attempts cut back before:{lines}")
 }
 
 /// Everything that can go wrong in setting up or solving an elastic model.
@@ -80,15 +108,24 @@ pub enum ElasticError {
         message: String,
     },
     /// Newton did not converge even after cutting the increment.
-    #[error("Newton did not converge at load fraction {fraction:.4} (increment {increment:.3e}): {reason}; iteration history:{}", format_history(.history))]
+    #[error("Newton did not converge in increment {number} (load fraction {from:.4} → {fraction:.4}, increment {increment:.3e}): {reason}{}; iteration history of the last attempt:{}", format_attempts(.attempts), format_history(.history))]
     NotConverged {
-        /// Load fraction of the increment that failed.
+        /// Increment number within the `advance` call (1-based: the
+        /// converged increments before it, plus one).
+        number: usize,
+        /// Load fraction reached before the failed increment (the last
+        /// converged one).
+        from: f64,
+        /// Load fraction the failed increment aimed at.
         fraction: f64,
         /// Size of the smallest increment tried.
         increment: f64,
         /// Why it stopped.
         reason: String,
-        /// Iterations of the last attempt.
+        /// Every earlier attempt of this increment that failed and was cut
+        /// back: size, fraction, reason and its last iterations.
+        attempts: Vec<String>,
+        /// Iterations of the last attempt, all of its passes.
         history: Vec<IterationRecord>,
     },
 }

@@ -53,26 +53,29 @@ impl StaticSolver<'_> {
                 Err(ElasticError::NotConverged {
                     reason, history, ..
                 }) => {
+                    if 0.5 * ds < self.options.min_increment {
+                        return Err(ElasticError::NotConverged {
+                            number: reports.len() + 1,
+                            from: s,
+                            fraction: s_try,
+                            increment: ds,
+                            reason,
+                            attempts: cutbacks,
+                            history,
+                        });
+                    }
                     let tail: Vec<String> = history
                         .iter()
                         .rev()
                         .take(4)
                         .rev()
-                        .map(|h| h.to_string())
+                        .map(|h| format!("pass {} {h}", h.pass))
                         .collect();
                     cutbacks.push(format!(
-                        "increment {ds:.3e} at fraction {s:.3}: {reason}; last iterations: {}",
+                        "fraction {s:.4} → {s_try:.4} (increment {ds:.3e}): {reason}; last iterations: {}",
                         tail.join(" | ")
                     ));
                     ds *= 0.5;
-                    if ds < self.options.min_increment {
-                        return Err(ElasticError::NotConverged {
-                            fraction: s_try,
-                            increment: 2.0 * ds,
-                            reason,
-                            history,
-                        });
-                    }
                 }
                 Err(e) => return Err(e),
             }
@@ -103,7 +106,26 @@ impl StaticSolver<'_> {
         // by a multiplier update until the multipliers settle. `start` is the
         // state set the accepted pass started from.
         let (start, history) = loop {
-            let (u_new, history) = self.newton(&f_ext, loads, &committed, u.clone())?;
+            let pass = passes.len() + 1;
+            let (u_new, history) = match self.newton(&f_ext, loads, &committed, u.clone(), pass) {
+                Ok(r) => r,
+                // the failed pass comes with the passes before it
+                Err(ElasticError::NotConverged {
+                    reason, history, ..
+                }) => {
+                    let mut all: Vec<IterationRecord> = passes.concat();
+                    all.extend(history);
+                    return Err(super::newton::failure(
+                        if pass > 1 {
+                            format!("{reason} (pass {pass})")
+                        } else {
+                            reason
+                        },
+                        all,
+                    ));
+                }
+                Err(e) => return Err(e),
+            };
             total_iterations += history.len();
             max_pass = max_pass.max(history.len());
             passes.push(history.clone());
@@ -156,14 +178,12 @@ impl StaticSolver<'_> {
                 break (start, history);
             }
             if augmentations >= self.options.max_augmentations {
-                return Err(ElasticError::NotConverged {
-                    fraction: 0.0,
-                    increment: 0.0,
-                    reason: format!(
+                return Err(super::newton::failure(
+                    format!(
                         "after {augmentations} outer updates the multipliers still change by {max_change:.3e} Pa and the friction limits by {max_friction_change:.3e} Pa (largest contact pressure {max_p:.3e} Pa)"
                     ),
-                    history,
-                });
+                    passes.concat(),
+                ));
             }
             augmentations += 1;
         };

@@ -14,6 +14,7 @@ impl StaticSolver<'_> {
         loads: &Loads,
         committed: &[PointStates],
         mut u: Vec<f64>,
+        pass: usize,
     ) -> Result<(Vec<f64>, Vec<IterationRecord>), ElasticError> {
         // Prescribed values at this load level (global frame; rotated dofs are 0).
         for (d, v) in self.dirichlet.iter() {
@@ -37,6 +38,12 @@ impl StaticSolver<'_> {
             let r = self.residual(f_ext, &f_int);
             reference = reference.max(norm(&f_int));
             let rel = norm(&r) / reference;
+            // The residual cannot fall below the round-off of the sums that
+            // form it: with a stiff joint (a bonded interface with penalty
+            // 1e5 E/h) that floor lies above the tolerance, and a linear
+            // problem would otherwise iterate forever at it.
+            let floor = round_off_floor(&kt, &u, f_ext) / reference;
+            let tolerance = opts.residual_tolerance.max(floor);
             // A status change counts only where the point carries traction
             // before or after it: points at zero load (e.g. far from a local
             // thermal load) flip between touching and open at round-off level.
@@ -60,29 +67,29 @@ impl StaticSolver<'_> {
             // measures the error; otherwise the correction must be small too.
             let full_step = history.last().is_some_and(|h| h.step == 1.0);
             let converged = it > 0
-                && rel <= opts.residual_tolerance
+                && rel <= tolerance
                 && changed == 0
                 && (last_correction <= opts.correction_tolerance
-                    || rel <= opts.residual_tolerance * 1e-3
+                    || rel <= tolerance * 1e-3
                     || full_step);
             history.push(IterationRecord {
+                pass,
                 iteration: it,
                 residual: rel,
                 correction: 0.0,
                 step: 0.0,
                 status: counts,
                 changed,
+                floor,
             });
             if converged || (rel == 0.0 && changed == 0) {
                 return Ok((u, history));
             }
             if ping_pong > opts.max_ping_pong {
-                return Err(ElasticError::NotConverged {
-                    fraction: 0.0,
-                    increment: 0.0,
-                    reason: format!("contact status ping-pong ({ping_pong} repeats)"),
+                return Err(failure(
+                    format!("contact status ping-pong ({ping_pong} repeats)"),
                     history,
-                });
+                ));
             }
             // Tangent in the rotated frame, homogeneous constraints on the correction.
             self.rotations.rotate_matrix(&mut kt);
@@ -92,7 +99,7 @@ impl StaticSolver<'_> {
                 self.check_modes(&kt)?;
                 if !self.modes_checked {
                     // a minimal constraint was added: start over
-                    return self.newton(f_ext, loads, committed, u);
+                    return self.newton(f_ext, loads, committed, u, pass);
                 }
             }
             let symmetric = counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
@@ -114,12 +121,10 @@ impl StaticSolver<'_> {
                 0
             };
             if short_steps >= 4 {
-                return Err(ElasticError::NotConverged {
-                    fraction: 0.0,
-                    increment: 0.0,
-                    reason: "the line search keeps cutting the Newton step (stagnation)".into(),
+                return Err(failure(
+                    "the line search keeps cutting the Newton step (stagnation)",
                     history,
-                });
+                ));
             }
             for (a, b) in u.iter_mut().zip(&du) {
                 *a += step * b;
@@ -134,11 +139,43 @@ impl StaticSolver<'_> {
                 .map(|p: Vec<(PointStatus, f64)>| p.iter().map(|s| s.0).collect());
             prev = Some(status_t);
         }
-        Err(ElasticError::NotConverged {
-            fraction: 0.0,
-            increment: 0.0,
-            reason: format!("no convergence in {} iterations", opts.max_iterations),
+        Err(failure(
+            format!("no convergence in {} iterations", opts.max_iterations),
             history,
+        ))
+    }
+}
+
+/// Safety factor of the round-off floor over `ε · ‖ |K| |u| + |f| ‖` (the
+/// error of a sum of n terms grows like √n ε in practice, n ≤ ~30 per row
+/// here, and the tangent's entries carry their own assembly round-off).
+const ROUND_OFF_FACTOR: f64 = 64.0;
+
+/// Round-off floor of ‖R‖ = ‖f_ext − K u‖: `ε · ‖ |K| |u| + |f_ext| ‖`
+/// (row-wise sums of magnitudes), times [`ROUND_OFF_FACTOR`].
+fn round_off_floor(k: &CsrMatrix, u: &[f64], f_ext: &[f64]) -> f64 {
+    let (ptr, idx, val) = (k.pattern().indptr(), k.pattern().indices(), k.values());
+    let s: f64 = (0..k.n())
+        .map(|i| {
+            let row: f64 = (ptr[i]..ptr[i + 1])
+                .map(|q| (val[q] * u[idx[q]]).abs())
+                .sum();
+            (row + f_ext[i].abs()).powi(2)
         })
+        .sum();
+    ROUND_OFF_FACTOR * f64::EPSILON * s.sqrt()
+}
+
+/// A Newton failure inside an increment; [`StaticSolver::advance`] fills in
+/// the increment's number, load fractions and earlier attempts.
+pub(super) fn failure(reason: impl Into<String>, history: Vec<IterationRecord>) -> ElasticError {
+    ElasticError::NotConverged {
+        number: 0,
+        from: 0.0,
+        fraction: 0.0,
+        increment: 0.0,
+        reason: reason.into(),
+        attempts: Vec::new(),
+        history,
     }
 }

@@ -1,0 +1,163 @@
+//! The Newton iteration of the contact solve: convergence criteria, failure
+//! reports.
+//!
+//! Reference: the two-cylinder shrink fit (Lamé with an interference), which
+//! a bonded (linear, very stiff) joint must reproduce because the interface
+//! stays in compression.
+//!
+//! ```text
+//!   quarter rings 1 ≤ r ≤ 1.1 (heated by 50 K) and 1.1 ≤ r ≤ 1.2,
+//!   separate nodes at r = 1.1 joined by interface elements,
+//!   symmetry on θ = 0 and θ = π/2
+//! ```
+
+use std::f64::consts::PI;
+
+use tecon_contact::{LinearJoint, PaperJoint};
+use tecon_elastic::analytical::{Cylinders, ShrinkFit};
+use tecon_elastic::{
+    Analysis, ElasticError, ElasticModel, Joint, Loads, Material, SolverOptions, StaticSolver,
+};
+use tecon_mesh::{Mesh, RingLayer, layered_annulus};
+
+const STEEL: Material = Material {
+    youngs_modulus: 207e9,
+    poisson_ratio: 0.3,
+    expansion: 12.51e-6,
+};
+
+fn two_rings(rows: usize, segments: usize) -> Mesh {
+    let layer = |name: &str, r_in: f64, r_out: f64| RingLayer {
+        name: name.into(),
+        r_in,
+        r_out,
+        rows,
+    };
+    layered_annulus(
+        &[layer("inner", 1.0, 1.1), layer("outer", 1.1, 1.2)],
+        0.0,
+        PI / 2.0,
+        segments,
+    )
+    .unwrap()
+}
+
+fn heated_inner(mesh: &Mesh) -> Loads {
+    let inner = mesh.region_index("inner").unwrap();
+    Loads {
+        delta_t: mesh
+            .element_regions()
+            .iter()
+            .map(|&r| if r == inner { 50.0 } else { 0.0 })
+            .collect(),
+        ..Loads::zero()
+    }
+}
+
+/// Goal: a linear joint with penalty 1e5 E/h (a bonded interface) is a
+/// linear problem; Newton must stop after the first correction even though
+/// the residual's round-off floor (stiff springs times the displacement)
+/// lies above the relative tolerance 1e-8 — it used to iterate at
+/// |R|/ref ≈ 1.5e-8 until the iteration limit. The converged pressure is the
+/// two-cylinder one.
+#[test]
+fn a_stiff_linear_joint_converges_at_its_round_off_floor() {
+    let mesh = two_rings(4, 32);
+    let h = 0.1 / 4.0;
+    let k = 1e5 * STEEL.youngs_modulus / h;
+    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
+        .material_everywhere(STEEL)
+        .unwrap()
+        .symmetry("start")
+        .unwrap()
+        .symmetry("end")
+        .unwrap()
+        .interface(
+            "inner_outer",
+            Joint::Linear(LinearJoint::new(k, k).unwrap()),
+        )
+        .unwrap();
+    let mut solver = StaticSolver::new(&model, SolverOptions::default()).unwrap();
+    let reports = solver.advance(&heated_inner(&mesh)).unwrap();
+    assert_eq!(reports.len(), 1, "one increment, no cut-back");
+    let history = &reports[0].history;
+    for h in history {
+        eprintln!("{h}");
+    }
+    // predictor, one correction (the exact solution of the linear problem),
+    // and the check
+    assert!(
+        reports[0].iterations <= 3,
+        "{} iterations",
+        reports[0].iterations
+    );
+    let last = history.last().unwrap();
+    assert!(
+        last.floor > SolverOptions::default().residual_tolerance,
+        "the case must exercise the floor: floor {:.3e}",
+        last.floor
+    );
+    assert!(last.residual <= last.floor);
+    let fit = ShrinkFit {
+        a: 1.0,
+        c: 1.1,
+        b: 1.2,
+        delta: (1.0 + STEEL.poisson_ratio) * STEEL.expansion * 50.0 * 1.1,
+        e: STEEL.youngs_modulus,
+        nu: STEEL.poisson_ratio,
+        state: Cylinders::PlaneStrain,
+    };
+    let pts = solver.interface_results();
+    let p = -pts.iter().map(|p| p.traction[1]).sum::<f64>() / pts.len() as f64;
+    eprintln!("bonded: p = {p:.6e}, two cylinders {:.6e}", fit.pressure());
+    assert!((p / fit.pressure() - 1.0).abs() < 2e-3);
+}
+
+/// Goal: a Newton failure names the increment, the load fractions it went
+/// from and to, every attempt cut back before, and the iterations of the
+/// last attempt with their pass. Forced here by allowing one iteration per
+/// pass on the frictional shrink fit (which needs a few).
+#[test]
+fn a_failure_names_the_increment_the_fractions_and_the_attempts() {
+    let mesh = two_rings(2, 8);
+    let law = PaperJoint::with_default_penalty(STEEL.youngs_modulus, 0.05, 0.0, 0.3).unwrap();
+    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
+        .material_everywhere(STEEL)
+        .unwrap()
+        .symmetry("start")
+        .unwrap()
+        .symmetry("end")
+        .unwrap()
+        .interface("inner_outer", Joint::Frictional(law))
+        .unwrap();
+    let opts = SolverOptions {
+        max_iterations: 1,
+        min_increment: 0.25,
+        ..Default::default()
+    };
+    let mut solver = StaticSolver::new(&model, opts).unwrap();
+    let err = solver.advance(&heated_inner(&mesh)).unwrap_err();
+    let text = err.to_string();
+    eprintln!("{text}");
+    let ElasticError::NotConverged {
+        number,
+        from,
+        fraction,
+        increment,
+        attempts,
+        history,
+        ..
+    } = err
+    else {
+        panic!("expected NotConverged, got {text}");
+    };
+    assert_eq!(number, 1);
+    assert_eq!((from, fraction, increment), (0.0, 0.25, 0.25));
+    // 1 and 1/2 were tried and cut back before 1/4 failed
+    assert_eq!(attempts.len(), 2);
+    assert!(attempts[0].starts_with("fraction 0.0000 → 1.0000 (increment 1.000e0)"));
+    assert!(attempts[1].starts_with("fraction 0.0000 → 0.5000 (increment 5.000e-1)"));
+    assert!(!history.is_empty() && history.iter().all(|h| h.pass == 1));
+    assert!(text.contains("increment 1 (load fraction 0.0000 → 0.2500"));
+    assert!(text.contains("\n  pass 1:\n    it  0:"));
+}
