@@ -52,6 +52,7 @@ pub use kernels::{
 pub use material::{Analysis, Material};
 pub use model::{Component, ElasticModel, InterfaceNormals, ModelInterface};
 pub use solver::{
-    IncrementReport, InterfacePointResult, Loads, SolverOptions, SolverState, StaticSolver,
-    StressField, nodal_displacement, polar, stresses, von_mises,
+    IncrementReport, InterfacePointResult, Loads, PointStates, QuadraticStresses, SolverOptions,
+    SolverState, StaticSolver, StressField, nodal_displacement, polar, quadratic_stresses,
+    stresses, von_mises,
 };

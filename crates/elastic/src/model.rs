@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 use tecon_contact::nalgebra::{Point2, Vector2};
-use tecon_contact::{InterfaceElement, InterfaceQuadrature, Vector8};
+use tecon_contact::{InterfaceElement, InterfaceQuadrature, QuadraticInterfaceElement, Vector8};
 use tecon_fem::DofMap;
 use tecon_mesh::Mesh;
 
@@ -39,17 +39,26 @@ pub enum InterfaceNormals {
 /// Corner angle beyond which interface normals are not averaged.
 const FEATURE_ANGLE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-/// One interface of the model: its 4-node elements and joint law.
+/// One interface of the model: its elements and joint law. On an order-1
+/// mesh the elements are 4-node ([`InterfaceElement`], two integration
+/// points each); on an order-2 mesh they are 6-node
+/// ([`QuadraticInterfaceElement`], three points each) and `elements` is
+/// empty.
 #[derive(Debug, Clone)]
 pub struct ModelInterface {
     /// Interface name in the mesh.
     pub name: String,
     /// Joint law.
     pub law: Joint,
-    /// Node ids [1, 2, 3, 4] of each element.
+    /// Corner node ids [1, 2, 3, 4] of each element (either order).
     pub nodes: Vec<[usize; 4]>,
-    /// Element kernels (geometry and quadrature).
+    /// Order 1: element kernels (geometry and quadrature).
     pub elements: Vec<InterfaceElement>,
+    /// Order 2: node ids [1, 2, 3, 4, 5, 6] of each element — the corners
+    /// as in `nodes`, then the bottom and the top mid node.
+    pub quadratic_nodes: Vec<[usize; 6]>,
+    /// Order 2: element kernels (geometry and quadrature).
+    pub quadratic: Vec<QuadraticInterfaceElement>,
     /// Reference displacements (2 per node, the whole mesh) from which the
     /// jumps are measured: ⟦u⟧ = B (u − u_ref). None: u_ref = 0. A layer
     /// wrapped onto a deformed assembly takes the displacements at its
@@ -58,6 +67,16 @@ pub struct ModelInterface {
 }
 
 impl ModelInterface {
+    /// True for the 6-node (order-2) elements.
+    pub fn is_quadratic(&self) -> bool {
+        !self.quadratic_nodes.is_empty()
+    }
+
+    /// Integration points per element: 2 (4-node) or 3 (6-node).
+    pub fn points_per_element(&self) -> usize {
+        if self.is_quadratic() { 3 } else { 2 }
+    }
+
     /// Local displacement vector of element `e` relative to the reference,
     /// in the node order [1, 2, 3, 4] (x, y each).
     #[inline]
@@ -202,7 +221,8 @@ impl<'m> ElasticModel<'m> {
     }
 
     /// Symmetry on an edge set of any orientation: zero displacement normal
-    /// to the edges. Axis-aligned edges constrain u_x or u_y directly; other
+    /// to the edges (at the corner nodes and, on an order-2 mesh, at the mid
+    /// nodes). Axis-aligned edges constrain u_x or u_y directly; other
     /// nodes get a local (n, t) frame in which u_n = 0.
     pub fn symmetry(mut self, edge_set: &str) -> Result<Self, ElasticError> {
         let x = self.mesh.nodes();
@@ -215,6 +235,11 @@ impl<'m> ElasticModel<'m> {
                 let e = normals.entry(v).or_insert([0.0; 2]);
                 e[0] += n[0];
                 e[1] += n[1];
+            }
+            // order 2: the mid node's normal is the chord's (x'(0) of a
+            // 3-node edge is (x_b − x_a)/2 whatever the mid node)
+            if let Some(m) = self.mesh.edge_mid_node(a, b) {
+                normals.insert(m, n);
             }
         }
         for (node, n) in normals {
@@ -272,8 +297,90 @@ impl<'m> ElasticModel<'m> {
         self
     }
 
-    /// Joins the two faces of the mesh interface `name` with `law`.
-    pub fn interface(mut self, name: &str, law: Joint) -> Result<Self, ElasticError> {
+    /// Joins the two faces of the mesh interface `name` with `law`: 4-node
+    /// elements on an order-1 mesh, 6-node (three node pairs) on an
+    /// order-2 mesh.
+    pub fn interface(self, name: &str, law: Joint) -> Result<Self, ElasticError> {
+        if self.mesh.order() == 2 {
+            return self.quadratic_interface(name, law);
+        }
+        self.linear_interface(name, law)
+    }
+
+    /// The 6-node elements of an order-2 mesh. Smoothed normals: at each
+    /// corner node the isoparametric normals of the elements sharing it
+    /// are summed (not across a corner sharper than 45°); a mid node keeps
+    /// its element's own normal.
+    fn quadratic_interface(mut self, name: &str, law: Joint) -> Result<Self, ElasticError> {
+        let mesh_itf = self.mesh.interface(name)?;
+        let nodes = mesh_itf.elements.clone();
+        let error = |k: usize, message: String| ElasticError::Interface {
+            interface: name.into(),
+            element: k,
+            message,
+        };
+        if mesh_itf.mid_nodes.len() != nodes.len() {
+            return Err(error(
+                mesh_itf.mid_nodes.len().min(nodes.len()),
+                format!(
+                    "the mesh is of order 2 but the interface has {} pairs of mid nodes for {} elements",
+                    mesh_itf.mid_nodes.len(),
+                    nodes.len()
+                ),
+            ));
+        }
+        let quadratic_nodes: Vec<[usize; 6]> = nodes
+            .iter()
+            .zip(&mesh_itf.mid_nodes)
+            .map(|(n, m)| [n[0], n[1], n[2], n[3], m[0], m[1]])
+            .collect();
+        let x = self.mesh.nodes();
+        let mut elements = Vec::with_capacity(nodes.len());
+        for (k, el) in quadratic_nodes.iter().enumerate() {
+            let p = el.map(|v| Point2::new(x[v][0], x[v][1]));
+            let e = QuadraticInterfaceElement::with_quadrature(&p, self.quadrature)
+                .map_err(|e| error(k, e.to_string()))?;
+            elements.push(e);
+        }
+        if self.normals == InterfaceNormals::Smoothed {
+            // (element, local corner 0 or 1) at each bottom corner node
+            let mut at_node: HashMap<usize, Vec<(usize, usize)>> = HashMap::new();
+            for (k, el) in nodes.iter().enumerate() {
+                at_node.entry(el[0]).or_default().push((k, 0));
+                at_node.entry(el[1]).or_default().push((k, 1));
+            }
+            let own: Vec<[Vector2<f64>; 3]> = elements
+                .iter()
+                .map(|e| e.geometry().node_normals())
+                .collect();
+            for (k, el) in nodes.iter().enumerate() {
+                let smoothed = [0usize, 1].map(|c| {
+                    let mine = own[k][c];
+                    at_node[&el[c]]
+                        .iter()
+                        .map(|&(f, cf)| own[f][cf])
+                        .filter(|n| n.dot(&mine) >= FEATURE_ANGLE_COS)
+                        .fold(Vector2::zeros(), |acc, n| acc + n)
+                });
+                elements[k] = elements[k]
+                    .with_node_normals([smoothed[0], smoothed[1], own[k][2]])
+                    .map_err(|e| error(k, e.to_string()))?;
+            }
+        }
+        self.interfaces.push(ModelInterface {
+            name: name.into(),
+            law,
+            nodes,
+            elements: Vec::new(),
+            quadratic_nodes,
+            quadratic: elements,
+            reference: None,
+        });
+        Ok(self)
+    }
+
+    /// The 4-node elements of an order-1 mesh.
+    fn linear_interface(mut self, name: &str, law: Joint) -> Result<Self, ElasticError> {
         let nodes = self.mesh.interface(name)?.elements.clone();
         let x = self.mesh.nodes();
         let error = |k: usize, message: String| ElasticError::Interface {
@@ -318,6 +425,8 @@ impl<'m> ElasticModel<'m> {
             law,
             nodes,
             elements,
+            quadratic_nodes: Vec::new(),
+            quadratic: Vec::new(),
             reference: None,
         });
         Ok(self)

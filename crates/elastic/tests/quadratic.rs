@@ -526,17 +526,3 @@ fn gps_triangle6_is_consistent_with_plane_kernel_and_free_thermal_expansion() {
         assert!(s.iter().all(|v| v.abs() < 1e-3), "{s:?}");
     }
 }
-
-#[test]
-fn the_solver_rejects_a_p2_mesh_with_a_clear_error() {
-    let mesh = tecon_mesh::rectangle_of_order(0.0, 0.0, 1.0, 1.0, 2, 2, 2).unwrap();
-    assert_eq!(mesh.order(), 2);
-    let model = tecon_elastic::ElasticModel::new(&mesh, Analysis::PlaneStrain)
-        .material_everywhere(steel())
-        .unwrap();
-    let err = tecon_elastic::StaticSolver::new(&model, tecon_elastic::SolverOptions::default())
-        .err()
-        .expect("a P2 mesh is rejected");
-    let msg = err.to_string();
-    assert!(msg.contains("order 2") && msg.contains("order-1"), "{msg}");
-}

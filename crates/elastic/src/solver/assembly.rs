@@ -1,15 +1,19 @@
-//! Element loops: the bulk triangles and the interface elements (tangent,
-//! internal force, point responses), the external force and the residual.
-//! Kept apart from the Newton / line-search logic so that other element
-//! types plug in here.
+//! Element loops: the bulk triangles (3- and 6-node) and the interface
+//! elements (4-node linear and 6-node quadratic: tangent, internal force,
+//! point responses), the external force and the residual. Kept apart from
+//! the Newton / line-search logic so that other element types plug in here.
 
-use tecon_contact::{ContactStatus, ElementResponse, InterfaceElement, JointState, Vector8};
+use nalgebra::{SMatrix, SVector};
+use tecon_contact::{
+    ContactStatus, InterfaceElement, JointState, PointOutput, QuadraticInterfaceElement,
+};
 use tecon_fem::triangle::TriangleGeometry;
+use tecon_fem::triangle6::Triangle6;
 use tecon_fem::{CsrMatrix, Element, LocalSystem, Parallelism};
 
 use crate::error::ElasticError;
 use crate::joint::Joint;
-use crate::kernels::{gps_triangle, plane_triangle};
+use crate::kernels::{P2_RULE, gps_triangle, gps_triangle6, plane_triangle, plane_triangle6};
 use crate::material::{Analysis, Material};
 
 use super::*;
@@ -63,9 +67,184 @@ impl Element<7> for Bulk<'_> {
     }
 }
 
-pub(super) struct InterfaceSet<'a> {
-    pub(super) nodes: &'a [[usize; 4]],
-    pub(super) elements: &'a [InterfaceElement],
+/// The 6-node (P2) bulk triangles. `delta_t` is empty (no temperature
+/// change) or holds six values per element, element-major, in the node
+/// order of `triangles` (each `T_a − T_ref,e`).
+pub(super) struct Bulk6<'a> {
+    pub(super) geometry: &'a [Triangle6],
+    pub(super) triangles: &'a [[usize; 6]],
+    pub(super) materials: &'a [Material],
+    pub(super) analysis: Analysis,
+    pub(super) delta_t: &'a [f64],
+    pub(super) eps_zz: usize,
+}
+
+impl Bulk6<'_> {
+    #[inline]
+    fn element_delta_t(&self, e: usize) -> [f64; 6] {
+        self.delta_t
+            .get(6 * e..6 * e + 6)
+            .map_or([0.0; 6], |s| std::array::from_fn(|a| s[a]))
+    }
+}
+
+impl Element<12> for Bulk6<'_> {
+    fn n_elements(&self) -> usize {
+        self.triangles.len()
+    }
+    #[inline]
+    fn dofs(&self, e: usize) -> [usize; 12] {
+        PLANE.element_dofs(self.triangles[e])
+    }
+    #[inline]
+    fn local(&self, e: usize) -> LocalSystem<12> {
+        let m = &self.materials[e];
+        let (matrix, vector) = plane_triangle6(
+            &self.geometry[e],
+            &self.analysis.d(m),
+            self.analysis.in_plane_expansion(m),
+            &self.element_delta_t(e),
+        );
+        LocalSystem { matrix, vector }
+    }
+}
+
+impl Element<13> for Bulk6<'_> {
+    fn n_elements(&self) -> usize {
+        self.triangles.len()
+    }
+    #[inline]
+    fn dofs(&self, e: usize) -> [usize; 13] {
+        let d: [usize; 12] = PLANE.element_dofs(self.triangles[e]);
+        std::array::from_fn(|k| if k < 12 { d[k] } else { self.eps_zz })
+    }
+    #[inline]
+    fn local(&self, e: usize) -> LocalSystem<13> {
+        let (matrix, vector) = gps_triangle6(
+            &self.geometry[e],
+            &self.materials[e],
+            &self.element_delta_t(e),
+        );
+        LocalSystem { matrix, vector }
+    }
+}
+
+/// An interface element kernel of `N` dofs (`N / 2` nodes) and `P`
+/// integration points: the linear 4-node element (8, 2) and the quadratic
+/// 6-node one (12, 3).
+pub(super) trait JointKernel<const N: usize, const P: usize> {
+    /// Force, tangent and point outputs (see `InterfaceElement::evaluate`).
+    fn respond(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, N>,
+        committed: &[JointState; P],
+    ) -> (
+        SVector<f64, N>,
+        SMatrix<f64, N, N>,
+        [PointOutput<JointState>; P],
+    );
+    /// Augmented-Lagrangian update: new states, largest multiplier change.
+    fn augment(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, N>,
+        states: &[JointState; P],
+    ) -> ([JointState; P], f64);
+    /// Frozen friction-limit update: new states, largest change.
+    fn update_friction(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, N>,
+        states: &[JointState; P],
+    ) -> ([JointState; P], f64);
+    /// Position of point `q` on the bottom face, from the element's node
+    /// coordinates (bottom nodes first).
+    fn position(&self, q: usize, point: &PointOutput<JointState>, x: &[[f64; 2]]) -> [f64; 2];
+}
+
+impl JointKernel<8, 2> for InterfaceElement {
+    #[inline]
+    fn respond(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, 8>,
+        committed: &[JointState; 2],
+    ) -> (
+        SVector<f64, 8>,
+        SMatrix<f64, 8, 8>,
+        [PointOutput<JointState>; 2],
+    ) {
+        let r = self.evaluate(law, u, committed);
+        (r.force, r.tangent, r.points)
+    }
+    fn augment(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, 8>,
+        states: &[JointState; 2],
+    ) -> ([JointState; 2], f64) {
+        InterfaceElement::augment(self, law, u, states)
+    }
+    fn update_friction(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, 8>,
+        states: &[JointState; 2],
+    ) -> ([JointState; 2], f64) {
+        InterfaceElement::update_friction(self, law, u, states)
+    }
+    fn position(&self, _q: usize, p: &PointOutput<JointState>, x: &[[f64; 2]]) -> [f64; 2] {
+        let s = p.zeta / self.geometry().length() + 0.5;
+        [
+            x[0][0] + s * (x[1][0] - x[0][0]),
+            x[0][1] + s * (x[1][1] - x[0][1]),
+        ]
+    }
+}
+
+impl JointKernel<12, 3> for QuadraticInterfaceElement {
+    #[inline]
+    fn respond(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, 12>,
+        committed: &[JointState; 3],
+    ) -> (
+        SVector<f64, 12>,
+        SMatrix<f64, 12, 12>,
+        [PointOutput<JointState>; 3],
+    ) {
+        let r = self.evaluate(law, u, committed);
+        (r.force, r.tangent, r.points)
+    }
+    fn augment(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, 12>,
+        states: &[JointState; 3],
+    ) -> ([JointState; 3], f64) {
+        QuadraticInterfaceElement::augment(self, law, u, states)
+    }
+    fn update_friction(
+        &self,
+        law: &Joint,
+        u: &SVector<f64, 12>,
+        states: &[JointState; 3],
+    ) -> ([JointState; 3], f64) {
+        QuadraticInterfaceElement::update_friction(self, law, u, states)
+    }
+    fn position(&self, q: usize, _p: &PointOutput<JointState>, _x: &[[f64; 2]]) -> [f64; 2] {
+        self.geometry().bottom().position(self.points()[q].s)
+    }
+}
+
+/// One interface's elements of one kernel type, with their nodes (`M`
+/// per element, `N = 2M` dofs), at displacements `u` from `committed`
+/// states.
+pub(super) struct InterfaceSet<'a, K, const M: usize, const P: usize> {
+    pub(super) nodes: &'a [[usize; M]],
+    pub(super) elements: &'a [K],
     pub(super) law: &'a Joint,
     pub(super) u: &'a [f64],
     pub(super) committed: &'a PointStates,
@@ -73,66 +252,178 @@ pub(super) struct InterfaceSet<'a> {
     pub(super) reference: Option<&'a [f64]>,
 }
 
-impl InterfaceSet<'_> {
-    pub(super) fn local_u(&self, e: usize) -> Vector8 {
-        let n = self.nodes[e];
-        match self.reference {
-            None => Vector8::from_fn(|i, _| self.u[2 * n[i / 2] + i % 2]),
-            Some(r) => Vector8::from_fn(|i, _| {
-                let d = 2 * n[i / 2] + i % 2;
-                self.u[d] - r[d]
-            }),
-        }
+impl<K, const M: usize, const P: usize> InterfaceSet<'_, K, M, P> {
+    #[inline]
+    pub(super) fn local_u<const N: usize>(&self, e: usize) -> SVector<f64, N> {
+        local_u(&self.nodes[e], self.u, self.reference)
     }
 }
 
-impl Element<8> for InterfaceSet<'_> {
+/// Element dof values `u − u_ref` of the nodes `n` (x, y each).
+#[inline]
+fn local_u<const M: usize, const N: usize>(
+    n: &[usize; M],
+    u: &[f64],
+    reference: Option<&[f64]>,
+) -> SVector<f64, N> {
+    match reference {
+        None => SVector::<f64, N>::from_fn(|i, _| u[2 * n[i / 2] + i % 2]),
+        Some(r) => SVector::<f64, N>::from_fn(|i, _| {
+            let d = 2 * n[i / 2] + i % 2;
+            u[d] - r[d]
+        }),
+    }
+}
+
+impl<K, const M: usize, const N: usize, const P: usize> Element<N> for InterfaceSet<'_, K, M, P>
+where
+    K: JointKernel<N, P> + Sync,
+{
     fn n_elements(&self) -> usize {
         self.nodes.len()
     }
     #[inline]
-    fn dofs(&self, e: usize) -> [usize; 8] {
-        PLANE.element_dofs(self.nodes[e])
+    fn dofs(&self, e: usize) -> [usize; N] {
+        let n = self.nodes[e];
+        std::array::from_fn(|i| 2 * n[i / 2] + i % 2)
     }
     #[inline]
-    fn local(&self, e: usize) -> LocalSystem<8> {
-        let r =
-            self.elements[e].evaluate(self.law, &self.local_u(e), self.committed.element_array(e));
-        LocalSystem {
-            matrix: r.tangent,
-            vector: r.force,
+    fn local(&self, e: usize) -> LocalSystem<N> {
+        let (vector, matrix, _) =
+            self.elements[e].respond(self.law, &self.local_u(e), self.committed.element_array(e));
+        LocalSystem { matrix, vector }
+    }
+}
+
+/// Adds one interface set's forces (and tangent, if asked).
+fn add_set<K, const M: usize, const N: usize, const P: usize>(
+    assembler: &tecon_fem::Assembler,
+    block: BlockId,
+    set: &InterfaceSet<'_, K, M, P>,
+    kt: Option<&mut CsrMatrix>,
+    f_int: &mut [f64],
+) -> Result<(), ElasticError>
+where
+    K: JointKernel<N, P> + Sync,
+{
+    match kt {
+        Some(m) => assembler.add::<N, _>(block, set, m, Some(f_int), Parallelism::Rayon)?,
+        None => assembler.add_vector::<N, _>(block, set, f_int)?,
+    }
+    Ok(())
+}
+
+/// Point outputs of one interface set, element-major.
+fn set_points<K, const M: usize, const N: usize, const P: usize>(
+    set: &InterfaceSet<'_, K, M, P>,
+    out: &mut Vec<PointOutput<JointState>>,
+) where
+    K: JointKernel<N, P> + Sync,
+{
+    for (e, el) in set.elements.iter().enumerate() {
+        let (_, _, points) = el.respond(set.law, &set.local_u(e), set.committed.element_array(e));
+        out.extend(points);
+    }
+}
+
+/// Between-passes updates of one interface set (frozen friction limits,
+/// augmented-Lagrangian multipliers) from the jumps at `u`: the states are
+/// updated in place; returns the largest friction-limit and multiplier
+/// changes.
+pub(super) fn update_set<K, const M: usize, const N: usize, const P: usize>(
+    nodes: &[[usize; M]],
+    elements: &[K],
+    law: &Joint,
+    u: &[f64],
+    reference: Option<&[f64]>,
+    states: &mut PointStates,
+    frozen: bool,
+    augmented: bool,
+) -> (f64, f64)
+where
+    K: JointKernel<N, P>,
+{
+    let (mut friction, mut multiplier): (f64, f64) = (0.0, 0.0);
+    for (e, (el, n)) in elements.iter().zip(nodes).enumerate() {
+        let ue = local_u::<M, N>(n, u, reference);
+        let st = states.element_array_mut::<P>(e);
+        if frozen {
+            let (new, change) = el.update_friction(law, &ue, st);
+            *st = new;
+            friction = friction.max(change);
+        }
+        if augmented {
+            let (new, change) = el.augment(law, &ue, st);
+            *st = new;
+            multiplier = multiplier.max(change);
         }
     }
+    (friction, multiplier)
 }
 
 impl StaticSolver<'_> {
     pub(super) fn external_force(&self, loads: &Loads) -> Result<Vec<f64>, ElasticError> {
         let mesh = self.model.mesh;
         let mut f = vec![0.0; self.model.n_dofs()];
+        let gps = self.model.analysis == Analysis::GeneralisedPlaneStrain;
+        let eps_zz = self.model.eps_zz_dof().unwrap_or(0);
         if !loads.delta_t.is_empty() {
-            let set = Bulk {
-                nodes: mesh.nodes(),
-                triangles: mesh.triangles(),
-                materials: &self.materials,
-                analysis: self.model.analysis,
-                delta_t: &loads.delta_t,
-                eps_zz: self.model.eps_zz_dof().unwrap_or(0),
-            };
-            if self.model.analysis == Analysis::GeneralisedPlaneStrain {
-                self.assembler.add_vector::<7, _>(self.bulk, &set, &mut f)?;
-            } else {
-                self.assembler.add_vector::<6, _>(self.bulk, &set, &mut f)?;
+            match &self.p2 {
+                None => {
+                    let set = Bulk {
+                        nodes: mesh.nodes(),
+                        triangles: mesh.triangles(),
+                        materials: &self.materials,
+                        analysis: self.model.analysis,
+                        delta_t: &loads.delta_t,
+                        eps_zz,
+                    };
+                    if gps {
+                        self.assembler.add_vector::<7, _>(self.bulk, &set, &mut f)?;
+                    } else {
+                        self.assembler.add_vector::<6, _>(self.bulk, &set, &mut f)?;
+                    }
+                }
+                Some(p2) => {
+                    let set = p2.bulk(&self.materials, self.model.analysis, &loads.delta_t, eps_zz);
+                    if gps {
+                        self.assembler
+                            .add_vector::<13, _>(self.bulk, &set, &mut f)?;
+                    } else {
+                        self.assembler
+                            .add_vector::<12, _>(self.bulk, &set, &mut f)?;
+                    }
+                }
             }
         }
         let x = mesh.nodes();
-        for &([a, b], p) in &self.model.pressure {
-            let (dx, dy) = (x[b][0] - x[a][0], x[b][1] - x[a][1]);
-            // traction −p n, n L = (dy, −dx); half to each node
-            let fx = -0.5 * p * dy * loads.pressure;
-            let fy = 0.5 * p * dx * loads.pressure;
-            for v in [a, b] {
-                f[2 * v] += fx;
-                f[2 * v + 1] += fy;
+        match &self.p2 {
+            None => {
+                for &([a, b], p) in &self.model.pressure {
+                    let (dx, dy) = (x[b][0] - x[a][0], x[b][1] - x[a][1]);
+                    // traction −p n, n L = (dy, −dx); half to each node
+                    let fx = -0.5 * p * dy * loads.pressure;
+                    let fy = 0.5 * p * dx * loads.pressure;
+                    for v in [a, b] {
+                        f[2 * v] += fx;
+                        f[2 * v + 1] += fy;
+                    }
+                }
+            }
+            Some(p2) => {
+                // Consistent load of a uniform pressure on a (curved) 3-node
+                // edge: f_a = ∫ N_a p n_left ds (the traction −p n_out, with
+                // the outward normal the right normal of a → b), 3-point
+                // Gauss in the isoparametric arc length.
+                for (nodes, edge, p) in &p2.pressure {
+                    for q in edge.gauss_points(3) {
+                        for (k, &v) in nodes.iter().enumerate() {
+                            let w = p * q.shape[k] * q.weight * loads.pressure;
+                            f[2 * v] += w * q.normal.x;
+                            f[2 * v + 1] += w * q.normal.y;
+                        }
+                    }
+                }
             }
         }
         if loads.body_force != 0.0 {
@@ -141,17 +432,32 @@ impl StaticSolver<'_> {
                 if bf == [0.0; 2] {
                     continue;
                 }
-                let area = TriangleGeometry::new(t.map(|v| x[v])).area;
-                for &v in t {
-                    f[2 * v] += bf[0] * area / 3.0 * loads.body_force;
-                    f[2 * v + 1] += bf[1] * area / 3.0 * loads.body_force;
+                match &self.p2 {
+                    None => {
+                        let area = TriangleGeometry::new(t.map(|v| x[v])).area;
+                        for &v in t {
+                            f[2 * v] += bf[0] * area / 3.0 * loads.body_force;
+                            f[2 * v + 1] += bf[1] * area / 3.0 * loads.body_force;
+                        }
+                    }
+                    Some(p2) => {
+                        // f_a = ∫ N_a b dA
+                        let t6 = p2.triangles[e];
+                        for q in p2.geometry[e].points(P2_RULE) {
+                            for (a, &v) in t6.iter().enumerate() {
+                                let w = q.shape[a] * q.weight * loads.body_force;
+                                f[2 * v] += bf[0] * w;
+                                f[2 * v + 1] += bf[1] * w;
+                            }
+                        }
+                    }
                 }
             }
         }
         Ok(f)
     }
 
-    /// Tangent and internal force at `u` from `committed` states; also the statuses.
+    /// Tangent and internal force at `u` from `committed` states.
     pub(super) fn tangent_and_force(
         &self,
         u: &[f64],
@@ -175,47 +481,70 @@ impl StaticSolver<'_> {
         f_int: &mut [f64],
     ) -> Result<(), ElasticError> {
         for (k, itf) in self.model.interfaces.iter().enumerate() {
-            let set = InterfaceSet {
-                nodes: &itf.nodes,
-                elements: &itf.elements,
-                law: &self.laws[k],
-                u,
-                committed: &committed[k],
-                reference: itf.reference.as_deref(),
-            };
-            match kt.as_deref_mut() {
-                Some(m) => self.assembler.add::<8, _>(
-                    self.interface_blocks[k],
-                    &set,
-                    m,
-                    Some(&mut *f_int),
-                    Parallelism::Rayon,
-                )?,
-                None => self
-                    .assembler
-                    .add_vector::<8, _>(self.interface_blocks[k], &set, f_int)?,
+            let block = self.interface_blocks[k];
+            let law = &self.laws[k];
+            if itf.is_quadratic() {
+                let set = InterfaceSet::<_, 6, 3> {
+                    nodes: &itf.quadratic_nodes,
+                    elements: &itf.quadratic,
+                    law,
+                    u,
+                    committed: &committed[k],
+                    reference: itf.reference.as_deref(),
+                };
+                add_set(&self.assembler, block, &set, kt.as_deref_mut(), f_int)?;
+            } else {
+                let set = InterfaceSet::<_, 4, 2> {
+                    nodes: &itf.nodes,
+                    elements: &itf.elements,
+                    law,
+                    u,
+                    committed: &committed[k],
+                    reference: itf.reference.as_deref(),
+                };
+                add_set(&self.assembler, block, &set, kt.as_deref_mut(), f_int)?;
             }
         }
         Ok(())
     }
 
-    /// Element responses of every interface at `u` from `committed` states.
-    pub(super) fn responses(
+    /// Point outputs of every interface at `u` from `committed` states:
+    /// per interface, element-major (`PointStates::per_element` points per
+    /// element).
+    pub(super) fn point_outputs(
         &self,
         u: &[f64],
         committed: &[PointStates],
-    ) -> Vec<Vec<ElementResponse<JointState>>> {
+    ) -> Vec<Vec<PointOutput<JointState>>> {
         self.model
             .interfaces
             .iter()
             .zip(&self.laws)
             .zip(committed)
             .map(|((itf, law), states)| {
-                itf.elements
-                    .iter()
-                    .enumerate()
-                    .map(|(e, el)| el.evaluate(law, &itf.local_u(e, u), states.element_array(e)))
-                    .collect()
+                let mut out = Vec::with_capacity(states.as_slice().len());
+                if itf.is_quadratic() {
+                    let set = InterfaceSet::<_, 6, 3> {
+                        nodes: &itf.quadratic_nodes,
+                        elements: &itf.quadratic,
+                        law,
+                        u,
+                        committed: states,
+                        reference: itf.reference.as_deref(),
+                    };
+                    set_points(&set, &mut out);
+                } else {
+                    let set = InterfaceSet::<_, 4, 2> {
+                        nodes: &itf.nodes,
+                        elements: &itf.elements,
+                        law,
+                        u,
+                        committed: states,
+                        reference: itf.reference.as_deref(),
+                    };
+                    set_points(&set, &mut out);
+                }
+                out
             })
             .collect()
     }
@@ -223,25 +552,26 @@ impl StaticSolver<'_> {
     /// Status (with the slip direction) and traction magnitude |τ| + |σ| of
     /// every interface point.
     pub(super) fn statuses(&self, u: &[f64], committed: &[PointStates]) -> Vec<(PointStatus, f64)> {
-        self.responses(u, committed)
+        self.point_outputs(u, committed)
             .iter()
             .flatten()
-            .flat_map(|r| {
-                r.points.map(|p| {
-                    let backward = p.status == ContactStatus::Slip && p.traction.x < 0.0;
-                    (
-                        (p.status, backward),
-                        p.traction.x.abs() + p.traction.y.abs(),
-                    )
-                })
+            .map(|p| {
+                let backward = p.status == ContactStatus::Slip && p.traction.x < 0.0;
+                (
+                    (p.status, backward),
+                    p.traction.x.abs() + p.traction.y.abs(),
+                )
             })
             .collect()
     }
 
     pub(super) fn trial_states(&self, u: &[f64], committed: &[PointStates]) -> States {
-        self.responses(u, committed)
+        self.point_outputs(u, committed)
             .iter()
-            .map(|v| PointStates::from_elements(v.iter().map(|r| r.points.map(|p| p.state))))
+            .zip(committed)
+            .map(|(points, old)| {
+                PointStates::from_flat(old.per_element(), points.iter().map(|p| p.state).collect())
+            })
             .collect()
     }
 
@@ -260,37 +590,33 @@ impl StaticSolver<'_> {
     ) -> Vec<InterfacePointResult> {
         let x = self.model.mesh.nodes();
         let mut out = Vec::new();
-        for (k, (itf, responses)) in self
+        for (k, (itf, points)) in self
             .model
             .interfaces
             .iter()
-            .zip(self.responses(u, committed))
+            .zip(self.point_outputs(u, committed))
             .enumerate()
         {
-            for (e, ((el, n), r)) in itf
-                .elements
-                .iter()
-                .zip(&itf.nodes)
-                .zip(&responses)
-                .enumerate()
-            {
-                for (q, p) in r.points.iter().enumerate() {
-                    let s = p.zeta / el.geometry().length() + 0.5;
-                    let pos = [
-                        x[n[0]][0] + s * (x[n[1]][0] - x[n[0]][0]),
-                        x[n[0]][1] + s * (x[n[1]][1] - x[n[0]][1]),
-                    ];
-                    out.push(InterfacePointResult {
-                        interface: k,
-                        element: e,
-                        point: q,
-                        position: pos,
-                        jump: [p.jump.x, p.jump.y],
-                        traction: [p.traction.x, p.traction.y],
-                        status: p.status,
-                        slip: p.slip,
-                    });
-                }
+            let per = committed[k].per_element();
+            for (i, p) in points.iter().enumerate() {
+                let (e, q) = (i / per, i % per);
+                let position = if itf.is_quadratic() {
+                    let n = itf.quadratic_nodes[e];
+                    itf.quadratic[e].position(q, p, &[x[n[0]], x[n[1]]])
+                } else {
+                    let n = itf.nodes[e];
+                    itf.elements[e].position(q, p, &[x[n[0]], x[n[1]]])
+                };
+                out.push(InterfacePointResult {
+                    interface: k,
+                    element: e,
+                    point: q,
+                    position,
+                    jump: [p.jump.x, p.jump.y],
+                    traction: [p.traction.x, p.traction.y],
+                    status: p.status,
+                    slip: p.slip,
+                });
             }
         }
         out

@@ -5,6 +5,7 @@ use tecon_contact::FrictionBound;
 
 use crate::error::{ElasticError, IterationRecord};
 
+use super::assembly::update_set;
 use super::*;
 
 impl StaticSolver<'_> {
@@ -12,16 +13,37 @@ impl StaticSolver<'_> {
     /// on failure), committing the state at each converged increment.
     pub fn advance(&mut self, target: &Loads) -> Result<Vec<IncrementReport>, ElasticError> {
         let n_el = self.model.mesh.n_triangles();
-        if !target.delta_t.is_empty() && target.delta_t.len() != n_el {
+        // one value per element (order 1) or per element node (order 2)
+        let per_element = if self.p2.is_some() { 6 } else { 1 };
+        let n_values = per_element * n_el;
+        if !target.delta_t.is_empty() && target.delta_t.len() != n_values {
             return Err(ElasticError::Input {
                 what: "temperature change".into(),
-                message: format!("{} values for {n_el} triangles", target.delta_t.len()),
+                message: if per_element == 1 {
+                    format!(
+                        "{} values for {n_el} triangles: an order-1 mesh takes one value per element ({n_el}) or none",
+                        target.delta_t.len()
+                    )
+                } else {
+                    format!(
+                        "{} values for {n_el} triangles: an order-2 mesh takes six per element, element-major in the triangles6() node order (6 × {n_el} = {n_values}), or none",
+                        target.delta_t.len()
+                    )
+                },
             });
         }
-        if let Some(e) = target.delta_t.iter().position(|t| !t.is_finite()) {
+        if let Some(i) = target.delta_t.iter().position(|t| !t.is_finite()) {
             return Err(ElasticError::Input {
                 what: "temperature change".into(),
-                message: format!("element {e} has a non-finite value"),
+                message: if per_element == 1 {
+                    format!("element {i} has a non-finite value")
+                } else {
+                    format!(
+                        "element {} (its local node {}) has a non-finite value",
+                        i / 6,
+                        i % 6
+                    )
+                },
             });
         }
         let start = self.loads.clone();
@@ -31,7 +53,7 @@ impl StaticSolver<'_> {
         let mut reports = Vec::new();
         while s < 1.0 - 1e-14 {
             let s_try = (s + ds).min(1.0);
-            let loads = Loads::lerp(&start, target, s_try, n_el);
+            let loads = Loads::lerp(&start, target, s_try, n_values);
             match self.increment(&loads) {
                 Ok((u, states, start, mut report)) => {
                     // point output of the converged increment, evaluated from
@@ -143,31 +165,41 @@ impl StaticSolver<'_> {
             let mut max_change: f64 = 0.0;
             let mut max_friction_change: f64 = 0.0;
             let mut max_p: f64 = 0.0;
-            for (((itf, law), states), responses) in self
+            for p in self.point_outputs(&u, &start).iter().flatten() {
+                max_p = max_p.max(-p.traction.y);
+            }
+            for ((itf, law), states) in self
                 .model
                 .interfaces
                 .iter()
                 .zip(&self.laws)
                 .zip(committed.iter_mut())
-                .zip(self.responses(&u, &start))
             {
-                for (e, (el, r)) in itf.elements.iter().zip(&responses).enumerate() {
-                    let st = states.element_array_mut(e);
-                    let ue = itf.local_u(e, &u);
-                    for p in &r.points {
-                        max_p = max_p.max(-p.traction.y);
-                    }
-                    if frozen {
-                        let (new, change) = el.update_friction(law, &ue, st);
-                        *st = new;
-                        max_friction_change = max_friction_change.max(change);
-                    }
-                    if al.is_some() {
-                        let (new, change) = el.augment(law, &ue, st);
-                        *st = new;
-                        max_change = max_change.max(change);
-                    }
-                }
+                let (friction, multiplier) = if itf.is_quadratic() {
+                    update_set(
+                        &itf.quadratic_nodes,
+                        &itf.quadratic,
+                        law,
+                        &u,
+                        itf.reference.as_deref(),
+                        states,
+                        frozen,
+                        al.is_some(),
+                    )
+                } else {
+                    update_set(
+                        &itf.nodes,
+                        &itf.elements,
+                        law,
+                        &u,
+                        itf.reference.as_deref(),
+                        states,
+                        frozen,
+                        al.is_some(),
+                    )
+                };
+                max_friction_change = max_friction_change.max(friction);
+                max_change = max_change.max(multiplier);
             }
             let scale = max_p.max(f64::MIN_POSITIVE);
             let al_done = al.is_none_or(|tol| max_change <= tol * scale);

@@ -35,7 +35,10 @@ mod staging;
 mod states;
 
 pub use options::{IncrementReport, InterfacePointResult, Loads, SolverOptions};
-pub use recovery::{StressField, nodal_displacement, polar, stresses, von_mises};
+pub use recovery::{
+    QuadraticStresses, StressField, nodal_displacement, polar, quadratic_stresses, stresses,
+    von_mises,
+};
 pub use staging::SolverState;
 pub use states::PointStates;
 
@@ -51,7 +54,9 @@ use crate::joint::Joint;
 use crate::material::{Analysis, Material};
 use crate::model::ElasticModel;
 use crate::rotation::Rotations;
-use assembly::Bulk;
+use assembly::{Bulk, Bulk6};
+use tecon_fem::edge3::Edge3;
+use tecon_fem::triangle6::Triangle6;
 
 /// The static nonlinear solver of one model, holding the committed state.
 pub struct StaticSolver<'a> {
@@ -78,6 +83,8 @@ pub struct StaticSolver<'a> {
     /// output displacements.
     gauges: Vec<Gauge>,
     states: States,
+    /// Order-2 meshes: the curved element geometry and pressure edges.
+    p2: Option<P2Data<'a>>,
     loads: Loads,
     notes: Vec<String>,
     points: Vec<InterfacePointResult>,
@@ -87,17 +94,6 @@ impl<'a> StaticSolver<'a> {
     /// Sets up the pattern, the bulk stiffness and the constraints.
     pub fn new(model: &'a ElasticModel<'a>, options: SolverOptions) -> Result<Self, ElasticError> {
         let mesh = model.mesh;
-        if mesh.order() != 1 {
-            // Never silently wrong: on a P2 mesh the linear path would see
-            // the corners only and leave the mid nodes without stiffness.
-            return Err(ElasticError::Input {
-                what: "mesh".into(),
-                message: format!(
-                    "the elastic solver assembles linear (3-node) triangles only and this mesh is of order {} (6-node triangles); the P2 kernels (plane_triangle6, gps_triangle6, QuadraticInterfaceElement) are not assembled by the solver yet: use an order-1 mesh",
-                    mesh.order()
-                ),
-            });
-        }
         let mut materials = model.element_materials()?;
         // staged construction: an inactive triangle has no stiffness and no
         // thermal load (E = 0), and its nodes are held (below)
@@ -109,40 +105,62 @@ impl<'a> StaticSolver<'a> {
         let inactive = model.inactive_nodes();
         staging::check_interfaces_active(model, &inactive)?;
         let n = model.n_dofs();
+        let p2 = P2Data::new(model)?;
+        let mut builder = AssemblerBuilder::new(n);
+        let gps = model.analysis == Analysis::GeneralisedPlaneStrain;
+        let eps_zz = model.eps_zz_dof().unwrap_or(0);
         let bulk_set = Bulk {
             nodes: mesh.nodes(),
             triangles: mesh.triangles(),
             materials: &materials,
             analysis: model.analysis,
             delta_t: &[],
-            eps_zz: model.eps_zz_dof().unwrap_or(0),
+            eps_zz,
         };
-        let mut builder = AssemblerBuilder::new(n);
-        let gps = model.analysis == Analysis::GeneralisedPlaneStrain;
-        let bulk = if gps {
-            builder.add_elements::<7, _>(&bulk_set)
-        } else {
-            builder.add_elements::<6, _>(&bulk_set)
+        let bulk = match (&p2, gps) {
+            (None, true) => builder.add_elements::<7, _>(&bulk_set),
+            (None, false) => builder.add_elements::<6, _>(&bulk_set),
+            (Some(p), true) => {
+                builder.add_elements::<13, _>(&p.bulk(&materials, model.analysis, &[], eps_zz))
+            }
+            (Some(p), false) => {
+                builder.add_elements::<12, _>(&p.bulk(&materials, model.analysis, &[], eps_zz))
+            }
         };
         let interface_blocks = model
             .interfaces
             .iter()
             .map(|i| {
-                builder.add_block(
-                    8,
-                    i.nodes
+                let dofs = |nodes: &[usize]| {
+                    nodes
                         .iter()
-                        .flat_map(|n| n.iter().flat_map(|&v| [2 * v, 2 * v + 1]))
-                        .collect(),
-                )
+                        .flat_map(|&v| [2 * v, 2 * v + 1])
+                        .collect::<Vec<_>>()
+                };
+                if i.is_quadratic() {
+                    builder.add_block(12, i.quadratic_nodes.iter().flat_map(|n| dofs(n)).collect())
+                } else {
+                    builder.add_block(8, i.nodes.iter().flat_map(|n| dofs(n)).collect())
+                }
             })
             .collect();
         let assembler = builder.build()?;
         let mut k_bulk = assembler.new_matrix();
-        if gps {
-            assembler.add::<7, _>(bulk, &bulk_set, &mut k_bulk, None, Parallelism::Rayon)?;
-        } else {
-            assembler.add::<6, _>(bulk, &bulk_set, &mut k_bulk, None, Parallelism::Rayon)?;
+        match (&p2, gps) {
+            (None, true) => {
+                assembler.add::<7, _>(bulk, &bulk_set, &mut k_bulk, None, Parallelism::Rayon)?
+            }
+            (None, false) => {
+                assembler.add::<6, _>(bulk, &bulk_set, &mut k_bulk, None, Parallelism::Rayon)?
+            }
+            (Some(p), true) => {
+                let set = p.bulk(&materials, model.analysis, &[], eps_zz);
+                assembler.add::<13, _>(bulk, &set, &mut k_bulk, None, Parallelism::Rayon)?
+            }
+            (Some(p), false) => {
+                let set = p.bulk(&materials, model.analysis, &[], eps_zz);
+                assembler.add::<12, _>(bulk, &set, &mut k_bulk, None, Parallelism::Rayon)?
+            }
         }
         let mut dirichlet = Dirichlet::new();
         for &(d, v) in &model.fixed {
@@ -172,7 +190,7 @@ impl<'a> StaticSolver<'a> {
         let states = model
             .interfaces
             .iter()
-            .map(|i| PointStates::new(i.nodes.len(), 2))
+            .map(|i| PointStates::new(i.nodes.len(), i.points_per_element()))
             .collect();
         let laws = model
             .interfaces
@@ -204,6 +222,7 @@ impl<'a> StaticSolver<'a> {
             gauged: vec![0.0; n],
             gauges: Vec::new(),
             states,
+            p2,
             loads: Loads::zero(),
             notes: Vec::new(),
             points: Vec::new(),
@@ -237,6 +256,18 @@ impl<'a> StaticSolver<'a> {
         for g in &self.gauges {
             let (mut area, mut sum) = (0.0, 0.0);
             for &e in &g.elements {
+                if let Some(p2) = &self.p2 {
+                    // ∫ u dA on the curved 6-node triangle
+                    let t = p2.triangles[e];
+                    for q in p2.geometry[e].points(crate::kernels::P2_RULE) {
+                        area += q.weight;
+                        sum += q.weight
+                            * (0..6)
+                                .map(|a| q.shape[a] * self.u[2 * t[a] + g.component])
+                                .sum::<f64>();
+                    }
+                    continue;
+                }
                 let t = mesh.triangles()[e];
                 let a = tecon_fem::triangle::TriangleGeometry::new(t.map(|v| x[v])).area;
                 area += a;
@@ -387,15 +418,37 @@ impl<'a> StaticSolver<'a> {
         Ok(())
     }
 
-    /// Element and nodal stresses of the committed state.
+    /// Element and nodal stresses of the committed state. On an order-2
+    /// mesh the element value is the area mean over the integration points
+    /// and the nodal value the mean of the elements' recovered (SPR, per
+    /// region) values at the node; the per-point and per-region values are
+    /// in [`StaticSolver::quadratic_stresses`].
     pub fn stresses(&self) -> StressField {
-        stresses(
+        match self.quadratic_stresses() {
+            Some(q) => q.field(self.model.mesh),
+            None => stresses(
+                self.model,
+                &self.materials,
+                &self.u,
+                self.eps_zz(),
+                &self.loads.delta_t,
+            ),
+        }
+    }
+
+    /// Order-2 meshes: stresses at the integration points, recovered per
+    /// region (SPR) and the Zienkiewicz–Zhu indicator of each element, for
+    /// the committed state; `None` on an order-1 mesh.
+    pub fn quadratic_stresses(&self) -> Option<QuadraticStresses> {
+        let p2 = self.p2.as_ref()?;
+        Some(quadratic_stresses(
             self.model,
+            &p2.geometry,
             &self.materials,
             &self.u,
             self.eps_zz(),
             &self.loads.delta_t,
-        )
+        ))
     }
 
     /// Per-point interface output of the last converged increment (status,
@@ -406,6 +459,77 @@ impl<'a> StaticSolver<'a> {
             return self.point_results(&self.u, &self.states);
         }
         self.points.clone()
+    }
+}
+
+/// What the solver keeps of an order-2 mesh: the 6-node triangles with
+/// their (checked) curved geometry, and the pressure edges as 3-node edges.
+struct P2Data<'m> {
+    pub(super) triangles: &'m [[usize; 6]],
+    pub(super) geometry: Vec<Triangle6>,
+    /// Nodes (a, b, mid), the edge and the pressure (Pa at load factor 1).
+    pub(super) pressure: Vec<([usize; 3], Edge3, f64)>,
+}
+
+impl<'m> P2Data<'m> {
+    /// `None` on an order-1 mesh; errors name the element or edge whose
+    /// geometry is rejected.
+    fn new(model: &ElasticModel<'m>) -> Result<Option<Self>, ElasticError> {
+        let mesh = model.mesh;
+        let Some(triangles) = mesh.triangles6() else {
+            return Ok(None);
+        };
+        let x = mesh.nodes();
+        let geometry = triangles
+            .iter()
+            .enumerate()
+            .map(|(e, t)| {
+                Triangle6::new(t.map(|v| x[v])).map_err(|err| ElasticError::Input {
+                    what: format!("6-node triangle {e} (nodes {t:?})"),
+                    message: err.to_string(),
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut pressure = Vec::with_capacity(model.pressure.len());
+        for &([a, b], p) in &model.pressure {
+            let what = || format!("pressure edge ({a}, {b})");
+            let m = mesh
+                .edge_mid_node(a, b)
+                .ok_or_else(|| ElasticError::Input {
+                    what: what(),
+                    message: "the order-2 mesh has no mid node on this edge (not an element edge)"
+                        .into(),
+                })?;
+            let edge = Edge3::new([x[a], x[b], x[m]]).map_err(|err| ElasticError::Input {
+                what: what(),
+                message: err.to_string(),
+            })?;
+            pressure.push(([a, b, m], edge, p));
+        }
+        Ok(Some(P2Data {
+            triangles,
+            geometry,
+            pressure,
+        }))
+    }
+
+    /// The bulk element set with temperature changes `delta_t` (empty, or
+    /// six per element).
+    fn bulk<'s>(
+        &'s self,
+        materials: &'s [Material],
+        analysis: Analysis,
+        delta_t: &'s [f64],
+        eps_zz: usize,
+    ) -> Bulk6<'s> {
+        Bulk6 {
+            geometry: &self.geometry,
+            triangles: self.triangles,
+            materials,
+            analysis,
+            delta_t,
+            eps_zz,
+        }
     }
 }
 

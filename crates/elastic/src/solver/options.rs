@@ -7,7 +7,19 @@ use crate::error::IterationRecord;
 /// The loads of one state, all scaled by the solver's load path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Loads {
-    /// Temperature change T − T_ref per element (K); empty means zero.
+    /// Temperature change (K); empty means zero everywhere.
+    ///
+    /// * Order-1 mesh: one value per element, `T_e − T_ref,e`
+    ///   (`n_triangles` values).
+    /// * Order-2 mesh: six values per element, element-major, in the node
+    ///   order of `Mesh::triangles6()`: `delta_t[6e + a] = T_a − T_ref,e`,
+    ///   the temperature of the element's node `a` less the element's own
+    ///   stress-free reference, so that a weld element keeps its eigenstrain
+    ///   jump at nodes it shares with its neighbours (`6 · n_triangles`
+    ///   values). The kernels interpolate them to the integration points.
+    ///
+    /// Any other length is an error of [`crate::StaticSolver::advance`]
+    /// naming the expected lengths.
     pub delta_t: Vec<f64>,
     /// Factor on the model's pressures.
     pub pressure: f64,
@@ -38,13 +50,14 @@ impl Loads {
         }
     }
 
-    pub(crate) fn lerp(a: &Loads, b: &Loads, s: f64, n_el: usize) -> Loads {
+    /// Loads `a + s (b − a)`; `n` values of ΔT (when either has any).
+    pub(crate) fn lerp(a: &Loads, b: &Loads, s: f64, n: usize) -> Loads {
         let dt = |l: &Loads, e: usize| l.delta_t.get(e).copied().unwrap_or(0.0);
         Loads {
             delta_t: if a.delta_t.is_empty() && b.delta_t.is_empty() {
                 Vec::new()
             } else {
-                (0..n_el)
+                (0..n)
                     .map(|e| dt(a, e) + s * (dt(b, e) - dt(a, e)))
                     .collect()
             },

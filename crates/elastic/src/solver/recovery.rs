@@ -1,11 +1,14 @@
 //! Stress recovery: element and nodal stresses, polar components, von Mises.
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{Matrix3, Vector2, Vector3};
 use tecon_fem::triangle::TriangleGeometry;
+use tecon_fem::triangle6::{Triangle6, Vector12};
+use tecon_mesh::Mesh;
 
-use crate::kernels::element_stress;
+use crate::kernels::{element_stress, triangle6_stresses};
 use crate::material::Material;
 use crate::model::ElasticModel;
+use crate::recovery::{PointStress, spr_recovery, zz_indicator};
 
 /// Element and nodal stresses (σ_xx, σ_yy, σ_xy, σ_zz).
 #[derive(Debug, Clone, PartialEq)]
@@ -81,4 +84,118 @@ pub fn von_mises(s: [f64; 4]) -> f64 {
 /// Displacement of node `i` as a vector.
 pub fn nodal_displacement(u: &[f64], i: usize) -> Vector2<f64> {
     Vector2::new(u[2 * i], u[2 * i + 1])
+}
+
+/// Stresses of an order-2 (6-node) model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct QuadraticStresses {
+    /// Per element, the stresses at its [`crate::P2_RULE`] points
+    /// (position, weight, `(σ_xx, σ_yy, σ_xy, σ_zz)`).
+    pub points: Vec<Vec<PointStress>>,
+    /// Per element, the SPR-recovered stresses at its six nodes (node order
+    /// of `Mesh::triangles6()`), fitted within the element's region only:
+    /// never across a region boundary (the weld edge) or an interface.
+    pub recovered: Vec<[[f64; 4]; 6]>,
+    /// Zienkiewicz–Zhu indicator `η_e` of each element (energy norm of
+    /// `σ* − σ_h`, √(J/m) per unit thickness).
+    pub indicator: Vec<f64>,
+}
+
+impl QuadraticStresses {
+    /// Element means (area-weighted over the integration points) and nodal
+    /// values (area-weighted mean over the elements at the node of their
+    /// recovered values; where regions meet this mixes their values, which
+    /// stay apart in [`QuadraticStresses::recovered`]).
+    pub fn field(&self, mesh: &Mesh) -> StressField {
+        let element = self
+            .points
+            .iter()
+            .map(|pts| {
+                let area: f64 = pts.iter().map(|p| p.weight).sum();
+                let mut s = [0.0; 4];
+                for p in pts {
+                    for k in 0..4 {
+                        s[k] += p.weight * p.stress[k];
+                    }
+                }
+                s.map(|v| v / area)
+            })
+            .collect();
+        let mut acc = vec![[0.0; 5]; mesh.n_nodes()];
+        if let Some(t6) = mesh.triangles6() {
+            for (e, t) in t6.iter().enumerate() {
+                let area: f64 = self.points[e].iter().map(|p| p.weight).sum();
+                for (a, &v) in t.iter().enumerate() {
+                    for k in 0..4 {
+                        acc[v][k] += area * self.recovered[e][a][k];
+                    }
+                    acc[v][4] += area;
+                }
+            }
+        }
+        let nodal = acc
+            .iter()
+            .map(|a| [a[0] / a[4], a[1] / a[4], a[2] / a[4], a[3] / a[4]])
+            .collect();
+        StressField { element, nodal }
+    }
+}
+
+/// Stresses of an order-2 model at the integration points, recovered per
+/// region by SPR, and the ZZ indicator, for displacements `u`, ε_zz and the
+/// nodal temperature changes `delta_t` (empty, or six per element as in
+/// [`crate::Loads::delta_t`]). `geometry[e]` is element `e`'s 6-node
+/// triangle. An order-1 mesh gives empty lists.
+pub fn quadratic_stresses(
+    model: &ElasticModel<'_>,
+    geometry: &[Triangle6],
+    materials: &[Material],
+    u: &[f64],
+    eps_zz: f64,
+    delta_t: &[f64],
+) -> QuadraticStresses {
+    let mesh = model.mesh;
+    let Some(t6) = mesh.triangles6() else {
+        return QuadraticStresses {
+            points: Vec::new(),
+            recovered: Vec::new(),
+            indicator: Vec::new(),
+        };
+    };
+    let points: Vec<Vec<PointStress>> = t6
+        .iter()
+        .zip(geometry)
+        .enumerate()
+        .map(|(e, (t, g))| {
+            let ue = Vector12::from_fn(|k, _| u[2 * t[k / 2] + k % 2]);
+            let dt: [f64; 6] = delta_t
+                .get(6 * e..6 * e + 6)
+                .map_or([0.0; 6], |s| std::array::from_fn(|a| s[a]));
+            triangle6_stresses(g, model.analysis, &materials[e], &ue, eps_zz, &dt)
+                .iter()
+                .map(|(s, p)| PointStress {
+                    x: g.position(p.xi),
+                    weight: p.weight,
+                    stress: *s,
+                })
+                .collect()
+        })
+        .collect();
+    let recovered = spr_recovery(mesh.nodes(), t6, mesh.element_regions(), &points);
+    let compliance: Vec<Matrix3<f64>> = materials
+        .iter()
+        .map(|m| {
+            model
+                .analysis
+                .d(m)
+                .try_inverse()
+                .unwrap_or_else(Matrix3::zeros)
+        })
+        .collect();
+    let indicator = zz_indicator(geometry, &compliance, &points, &recovered);
+    QuadraticStresses {
+        points,
+        recovered,
+        indicator,
+    }
 }

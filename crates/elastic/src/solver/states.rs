@@ -86,13 +86,12 @@ impl PointStates {
         self.states.chunks_exact(self.per_element.max(1))
     }
 
-    /// Builds the states of `n_elements` elements from each element's points.
-    pub(crate) fn from_elements<const P: usize>(
-        per_element: impl IntoIterator<Item = [JointState; P]>,
-    ) -> Self {
+    /// States from a flat element-major list of `per_element` points each.
+    pub(crate) fn from_flat(per_element: usize, states: Vec<JointState>) -> Self {
+        debug_assert!(per_element > 0 && states.len() % per_element == 0);
         PointStates {
-            per_element: P,
-            states: per_element.into_iter().flatten().collect(),
+            per_element,
+            states,
         }
     }
 }
@@ -109,8 +108,10 @@ mod tests {
         assert_eq!(s.as_slice()[7].slip, 7.0);
         assert_eq!(s.element_array::<3>(2)[1].slip, 7.0);
         assert_eq!(s.elements().len(), 4);
-        let t = PointStates::from_elements([[JointState::default(); 2]; 5]);
+        let t = PointStates::from_flat(2, vec![JointState::default(); 10]);
         assert_eq!((t.per_element(), t.n_elements()), (2, 5));
+        let b = s.broadcast(2);
+        assert_eq!((b.per_element(), b.element(2)[1].slip), (2, 0.0));
         assert_eq!(PointStates::new(0, 2).n_elements(), 0);
     }
 }
