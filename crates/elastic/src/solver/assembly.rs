@@ -327,7 +327,8 @@ fn set_points<K, const M: usize, const N: usize, const P: usize>(
 }
 
 /// Between-passes updates of one interface set (frozen friction limits,
-/// augmented-Lagrangian multipliers) from the jumps at `u`: the states are
+/// augmented-Lagrangian multipliers, as asked by `(frozen, augmented)`)
+/// from the jumps at `u − u_ref`: the states are
 /// updated in place; returns the largest friction-limit and multiplier
 /// changes.
 pub(super) fn update_set<K, const M: usize, const N: usize, const P: usize>(
@@ -337,8 +338,7 @@ pub(super) fn update_set<K, const M: usize, const N: usize, const P: usize>(
     u: &[f64],
     reference: Option<&[f64]>,
     states: &mut PointStates,
-    frozen: bool,
-    augmented: bool,
+    (frozen, augmented): (bool, bool),
 ) -> (f64, f64)
 where
     K: JointKernel<N, P>,

@@ -183,8 +183,7 @@ impl StaticSolver<'_> {
                         &u,
                         itf.reference.as_deref(),
                         states,
-                        frozen,
-                        al.is_some(),
+                        (frozen, al.is_some()),
                     )
                 } else {
                     update_set(
@@ -194,8 +193,7 @@ impl StaticSolver<'_> {
                         &u,
                         itf.reference.as_deref(),
                         states,
-                        frozen,
-                        al.is_some(),
+                        (frozen, al.is_some()),
                     )
                 };
                 max_friction_change = max_friction_change.max(friction);

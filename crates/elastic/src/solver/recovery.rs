@@ -114,8 +114,8 @@ impl QuadraticStresses {
                 let area: f64 = pts.iter().map(|p| p.weight).sum();
                 let mut s = [0.0; 4];
                 for p in pts {
-                    for k in 0..4 {
-                        s[k] += p.weight * p.stress[k];
+                    for (sk, pk) in s.iter_mut().zip(p.stress) {
+                        *sk += p.weight * pk;
                     }
                 }
                 s.map(|v| v / area)
@@ -126,8 +126,8 @@ impl QuadraticStresses {
             for (e, t) in t6.iter().enumerate() {
                 let area: f64 = self.points[e].iter().map(|p| p.weight).sum();
                 for (a, &v) in t.iter().enumerate() {
-                    for k in 0..4 {
-                        acc[v][k] += area * self.recovered[e][a][k];
+                    for (ak, rk) in acc[v].iter_mut().zip(self.recovered[e][a]) {
+                        *ak += area * rk;
                     }
                     acc[v][4] += area;
                 }

@@ -88,7 +88,7 @@ impl PointStates {
 
     /// States from a flat element-major list of `per_element` points each.
     pub(crate) fn from_flat(per_element: usize, states: Vec<JointState>) -> Self {
-        debug_assert!(per_element > 0 && states.len() % per_element == 0);
+        debug_assert!(per_element > 0 && states.len().is_multiple_of(per_element));
         PointStates {
             per_element,
             states,
