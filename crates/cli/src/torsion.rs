@@ -52,7 +52,8 @@ pub struct TorsionArgs {
     /// tube:ro=RO,ri=RI | box:w=W,h=H,t=T (or tf=TF,tw=TW) | path to a TOML file
     #[arg(long)]
     pub section: String,
-    /// Relative tolerance on J and τ_max (error control: n doubles until two resolutions agree)
+    /// Relative tolerance on J, τ_max, the shear centre and Γ (error control: n doubles until
+    /// two resolutions agree)
     #[arg(long, default_value_t = 1e-8)]
     pub tol: f64,
     /// Largest n the error control may use (dense solves: n = 4096 takes seconds)
@@ -187,6 +188,7 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
     let n = sol.options.n;
     let opts = sol.options;
     let ms = ctl.max_shear;
+    let warp = &ctl.warping;
     let interior = sol.interior_checked(&points)?;
 
     // convergence study
@@ -253,6 +255,66 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
             }
         }
         written.push(csv);
+        // the warping function ω_n (normalised, about the shear centre) on every curve
+        let wcsv = dir.join("warping.csv");
+        let mut f = std::fs::File::create(&wcsv)
+            .map_err(|e| format!("--out: cannot write `{}`: {e}", wcsv.display()))?;
+        writeln!(f, "curve,t,x,y,omega")?;
+        let wsamples = sol.warping_samples(warp, m);
+        for s in &wsamples {
+            writeln!(
+                f,
+                "{},{:.16e},{:.16e},{:.16e},{:.16e}",
+                s.curve, s.t, s.x[0], s.x[1], s.omega
+            )?;
+        }
+        written.push(wcsv);
+        // key results with their estimated errors (a short table in report.html)
+        let rcsv = dir.join("results.csv");
+        let mut f = std::fs::File::create(&rcsv)
+            .map_err(|e| format!("--out: cannot write `{}`: {e}", rcsv.display()))?;
+        writeln!(f, "quantity,value,estimated_error,error_measure")?;
+        writeln!(
+            f,
+            "J,{:.15e},{:.3e},relative",
+            sol.torsional_rigidity, ctl.j_error
+        )?;
+        match ms.value {
+            Some(t) => writeln!(
+                f,
+                "tau_max,{t:.15e},{:.3e},relative",
+                ctl.tau_error.unwrap_or(f64::NAN)
+            )?,
+            None => writeln!(f, "tau_max,inf,,singular")?,
+        }
+        for (k, name) in ["shear_centre_x", "shear_centre_y"].iter().enumerate() {
+            writeln!(
+                f,
+                "{name},{:.15e},{:.3e},relative to the radius of gyration",
+                warp.shear_centre[k], ctl.shear_centre_error
+            )?;
+        }
+        writeln!(
+            f,
+            "warping_constant,{:.15e},{:.3e},relative",
+            warp.warping_constant, ctl.warping_error
+        )?;
+        writeln!(f, "n,{n},,")?;
+        writeln!(f, "converged,{},,", ctl.converged)?;
+        written.push(rcsv);
+        let cpw = ColouredPath {
+            title: format!("{}: warping function ω_n on the boundary", section.name),
+            value_label: "ω_n [length²]".into(),
+            points: wsamples
+                .iter()
+                .filter(|s| s.curve == 0)
+                .map(|s| (s.x[0], s.x[1], s.omega))
+                .collect(),
+            closed: true,
+        };
+        let (a, b) = cpw.write_svg_png(&dir.join("section_warping"))?;
+        written.push(a);
+        written.push(b);
         let lp = LinePlot {
             title: format!("Boundary shear stress, {}", section.name),
             x_label: "arc length s [length]".into(),
@@ -301,6 +363,17 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                 "estimated_error": {
                     "torsional_rigidity": js(ctl.j_error),
                     "max_shear_stress": ctl.tau_error.map(js),
+                    "shear_centre": js(ctl.shear_centre_error),
+                    "warping_constant": js(ctl.warping_error),
+                },
+                "shear_centre": warp.shear_centre,
+                "warping_constant": js(warp.warping_constant),
+                "warping": {
+                    "shear_centre": warp.shear_centre,
+                    "warping_constant": js(warp.warping_constant),
+                    "centroidal_warping_constant": js(warp.centroidal_constant),
+                    "product_integrals_about_centroid": [js(warp.product_integrals[0]), js(warp.product_integrals[1])],
+                    "omega": "normalised warping function about the shear centre, ∂ω/∂n = (y − y_S) n_x − (x − x_S) n_y, ∫ω dA = 0; boundary values in warping.csv with --out",
                 },
                 "levels": ctl.levels,
                 "warnings": ctl.warnings,
@@ -370,6 +443,17 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                     );
                 }
             }
+            println!(
+                "shear centre       ({:.12e}, {:.12e})   (Trefftz; {:+.6e}, {:+.6e} from the centroid)",
+                warp.shear_centre[0],
+                warp.shear_centre[1],
+                warp.shear_centre[0] - pr.centroid[0],
+                warp.shear_centre[1] - pr.centroid[1]
+            );
+            println!(
+                "warping constant   Γ = {:.12e}   (∫ ω_n² dA, ω_n normalised about the shear centre)",
+                warp.warping_constant
+            );
             for (k, h) in sol.holes.iter().enumerate() {
                 println!(
                     "hole {}             u = C = {:.15e} on its boundary (area {:.6e})",
@@ -387,8 +471,10 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
                 .map(|e| format!("{e:.1e}"))
                 .unwrap_or_else(|| "- (singular)".into());
             println!(
-                "estimated error    J {:.1e}, τ_max {tau_e} (relative; tolerance {:.1e}; n = {} vs {})",
+                "estimated error    J {:.1e}, τ_max {tau_e}, shear centre {:.1e}, Γ {:.1e} (relative; tolerance {:.1e}; n = {} vs {})",
                 ctl.j_error,
+                ctl.shear_centre_error,
+                ctl.warping_error,
                 ctl.tol,
                 n,
                 ctl.levels

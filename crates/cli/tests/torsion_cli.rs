@@ -71,6 +71,16 @@ fn ellipse_json_matches_closed_form_for_every_method() {
         assert_eq!(v["singular"], false);
         assert_eq!(v["method"], m);
         assert!(v["multiplier"].as_f64().unwrap().abs() < 1e-12);
+        // warping: ω = −(a² − b²)/(a² + b²) xy, Γ = k² π a³ b³ / 24, shear centre at the centroid
+        let k = (a * a - b * b) / (a * a + b * b);
+        let gamma = k * k * PI * a.powi(3) * b.powi(3) / 24.0;
+        let g = v["warping_constant"].as_f64().unwrap();
+        assert!((g / gamma - 1.0).abs() < 1e-12, "{m}: Γ {g}");
+        let sc = v["shear_centre"].as_array().unwrap();
+        assert!(sc.iter().all(|c| c.as_f64().unwrap().abs() < 1e-12), "{m}: {sc:?}");
+        let e = &v["estimated_error"];
+        assert!(e["shear_centre"].as_f64().unwrap() <= 1e-8);
+        assert!(e["warping_constant"].as_f64().unwrap() <= 1e-8);
     }
 }
 
@@ -117,6 +127,10 @@ fn out_dir_has_csv_and_plots() {
         "boundary_shear.png",
         "section_shear.svg",
         "section_shear.png",
+        "warping.csv",
+        "results.csv",
+        "section_warping.svg",
+        "section_warping.png",
     ] {
         let p = dir.path().join(f);
         assert!(
@@ -139,6 +153,19 @@ fn out_dir_has_csv_and_plots() {
         count += 1;
     }
     assert!(count >= 1024);
+    // ω_n on the boundary against −(3/5) x y
+    let csv = std::fs::read_to_string(dir.path().join("warping.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "curve,t,x,y,omega");
+    let mut count = 0;
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((v[4] + 0.6 * v[2] * v[3]).abs() < 1e-11, "{l}");
+        count += 1;
+    }
+    assert!(count >= 1024);
+    let res = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
+    assert!(res.contains("shear_centre_x") && res.contains("warping_constant"));
     let svg = std::fs::read_to_string(dir.path().join("boundary_shear.svg")).unwrap();
     assert!(svg.contains("arc length"));
 }

@@ -1,5 +1,6 @@
 //! Error control: a starting resolution from the geometry, refinement by
-//! doubling n until two successive resolutions agree on J and τ_max, and the
+//! doubling n until two successive resolutions agree on J, τ_max, the shear
+//! centre and the warping constant Γ, and the
 //! estimated errors of the reported (finer) result.
 //!
 //! The estimate of a result at n is the difference from the result at n/2:
@@ -13,6 +14,17 @@
 use crate::error::SolveError;
 use crate::geometry::Section;
 use crate::solve::{MaxShear, Method, Options, TorsionSolution, solve};
+use crate::warping::Warping;
+
+/// One solved resolution: the solution, its τ_max and its warping outputs.
+type Solved = (TorsionSolution, MaxShear, Warping);
+
+fn solve_level(section: &Section, opts: &Options) -> Result<Solved, SolveError> {
+    let sol = solve(section, opts)?;
+    let ms = sol.max_shear();
+    let w = sol.warping();
+    Ok((sol, ms, w))
+}
 
 /// One resolution of a refinement sequence.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -23,6 +35,10 @@ pub struct Level {
     pub torsional_rigidity: f64,
     /// τ_max at this n (None when singular)
     pub max_shear_stress: Option<f64>,
+    /// shear centre at this n
+    pub shear_centre: [f64; 2],
+    /// warping constant Γ at this n
+    pub warping_constant: f64,
 }
 
 /// A result with its error estimate.
@@ -36,9 +52,17 @@ pub struct Controlled {
     pub j_error: f64,
     /// estimated relative error of τ_max (None when τ_max is singular)
     pub tau_error: Option<f64>,
+    /// warping function, shear centre and warping constant of the finest solution
+    pub warping: Warping,
+    /// estimated error of the shear centre: |x_S(n) − x_S(n/2)| / r_g, with
+    /// r_g = √(I_p/A) the polar radius of gyration
+    pub shear_centre_error: f64,
+    /// estimated relative error of Γ: |Γ(n) − Γ(n/2)| / max(|Γ(n)|, 10⁻⁶ I_p²/A)
+    /// (the floor keeps sections with Γ = 0, circles and tubes, measurable)
+    pub warping_error: f64,
     /// the requested relative tolerance
     pub tol: f64,
-    /// both estimates are within the tolerance
+    /// every estimate (J, τ_max, shear centre, Γ) is within the tolerance
     pub converged: bool,
     /// every resolution computed, coarse to fine
     pub levels: Vec<Level>,
@@ -87,17 +111,19 @@ fn rel(a: f64, b: f64) -> f64 {
     if s == 0.0 { 0.0 } else { (a - b).abs() / s }
 }
 
-fn level(sol: &TorsionSolution, ms: &MaxShear) -> Level {
+fn level(s: &Solved) -> Level {
     Level {
-        n: sol.options.n,
-        torsional_rigidity: sol.torsional_rigidity,
-        max_shear_stress: ms.value,
+        n: s.0.options.n,
+        torsional_rigidity: s.0.torsional_rigidity,
+        max_shear_stress: s.1.value,
+        shear_centre: s.2.shear_centre,
+        warping_constant: s.2.warping_constant,
     }
 }
 
 fn finish(
-    coarse: (TorsionSolution, MaxShear),
-    fine: (TorsionSolution, MaxShear),
+    coarse: Solved,
+    fine: Solved,
     tol: f64,
     levels: Vec<Level>,
     reached_cap: bool,
@@ -107,7 +133,17 @@ fn finish(
         (Some(a), Some(b)) => Some(rel(a, b)),
         _ => None,
     };
-    let converged = j_error <= tol && tau_error.is_none_or(|e| e <= tol);
+    let sec = &fine.0.section;
+    let ip = sec.polar_moment();
+    let rg = (ip / sec.area).sqrt();
+    let (a, b) = (fine.2.shear_centre, coarse.2.shear_centre);
+    let shear_centre_error = (a[0] - b[0]).hypot(a[1] - b[1]) / rg;
+    let g_scale = fine.2.warping_constant.abs().max(1e-6 * ip * ip / sec.area);
+    let warping_error = (fine.2.warping_constant - coarse.2.warping_constant).abs() / g_scale;
+    let converged = j_error <= tol
+        && tau_error.is_none_or(|e| e <= tol)
+        && shear_centre_error <= tol
+        && warping_error <= tol;
     let mut warnings = Vec::new();
     if !converged {
         let n = fine.0.options.n;
@@ -117,6 +153,7 @@ fn finish(
         if let Some(t) = tau_error {
             w += &format!(", of τ_max {t:.1e}");
         }
+        w += &format!(", of the shear centre {shear_centre_error:.1e}, of Γ {warping_error:.1e}");
         if reached_cap {
             w += " (the largest n allowed was reached)";
         }
@@ -127,6 +164,9 @@ fn finish(
         max_shear: fine.1,
         j_error,
         tau_error,
+        warping: fine.2,
+        shear_centre_error,
+        warping_error,
         tol,
         converged,
         levels,
@@ -141,8 +181,7 @@ pub fn solve_with_estimate(
     opts: &Options,
     tol: f64,
 ) -> Result<Controlled, SolveError> {
-    let fine = solve(section, opts)?;
-    let fms = fine.max_shear();
+    let fine = solve_level(section, opts)?;
     let half = opts.n / 2;
     if half < min_n(opts) {
         return Err(SolveError::BadN {
@@ -153,10 +192,9 @@ pub fn solve_with_estimate(
             ),
         });
     }
-    let coarse = solve(section, &Options { n: half, ..*opts })?;
-    let cms = coarse.max_shear();
-    let levels = vec![level(&coarse, &cms), level(&fine, &fms)];
-    Ok(finish((coarse, cms), (fine, fms), tol, levels, false))
+    let coarse = solve_level(section, &Options { n: half, ..*opts })?;
+    let levels = vec![level(&coarse), level(&fine)];
+    Ok(finish(coarse, fine, tol, levels, false))
 }
 
 /// Refines from [`starting_n`] (or `opts.n` if larger) by doubling until J and
@@ -182,7 +220,7 @@ pub fn solve_to_tolerance(
         ));
     }
     let mut n = (n0 / 2).min(n_max / 2).max(min_n(opts));
-    let mut prev: Option<(TorsionSolution, MaxShear)> = None;
+    let mut prev: Option<Solved> = None;
     let mut levels = Vec::new();
     let with_start = |mut c: Controlled| {
         if let Some(w) = &start_warning {
@@ -191,29 +229,21 @@ pub fn solve_to_tolerance(
         c
     };
     loop {
-        let sol = solve(section, &Options { n, ..*opts })?;
-        let ms = sol.max_shear();
-        levels.push(level(&sol, &ms));
+        let cur = solve_level(section, &Options { n, ..*opts })?;
+        levels.push(level(&cur));
         if let Some(p) = prev.take() {
             let at_cap = 2 * n > n_max;
-            let c = finish(p.clone(), (sol.clone(), ms), tol, levels.clone(), at_cap);
+            let c = finish(p, cur.clone(), tol, levels.clone(), at_cap);
             if c.converged || at_cap {
                 return Ok(with_start(c));
             }
         } else if 2 * n > n_max {
             // cannot refine at all: estimate from n/2
-            let coarse = solve(section, &Options { n: n / 2, ..*opts })?;
-            let cms = coarse.max_shear();
-            levels.insert(0, level(&coarse, &cms));
-            return Ok(with_start(finish(
-                (coarse, cms),
-                (sol, ms),
-                tol,
-                levels,
-                true,
-            )));
+            let coarse = solve_level(section, &Options { n: n / 2, ..*opts })?;
+            levels.insert(0, level(&coarse));
+            return Ok(with_start(finish(coarse, cur, tol, levels, true)));
         }
-        prev = Some((sol, ms));
+        prev = Some(cur);
         n *= 2;
     }
 }

@@ -49,6 +49,12 @@
 //! | a(d) | ∫∫ φ(X) φ(Y) ln\|X − Y + d\| dX dY |
 //! | W | periodised fast wavelet transform (orthogonal) |
 //! | ε | compression threshold relative to max\|a_ij\| |
+//! | ω | warping function, ∇²ω = 0, ∂ω/∂n = Y n_x − X n_y (X, Y from x₀); conjugate of v = u + \|x − x₀\|²/2 |
+//! | ω̃, C_k | −∫μ dt along curve k, and its constant (C_0 = 0 before normalising) |
+//! | ω_n | normalised warping function about the shear centre (∫ω_n dA = 0) |
+//! | x_S | shear centre (Trefftz): ∫ X ω_S dA = ∫ Y ω_S dA = 0 |
+//! | Γ | warping constant ∫ ω_n² dA |
+//! | Φ | r²(1 − ln r)/8π, ∇²Φ = w; gives ∫ω² dA from boundary data |
 
 pub mod analytical;
 pub mod control;
@@ -66,8 +72,10 @@ pub mod quadrature;
 pub mod sections;
 pub mod shannon;
 pub mod solve;
+pub mod warping;
 
 pub use control::{Controlled, solve_to_tolerance, solve_with_estimate};
 pub use error::{GeometryError, SolveError, SpecError};
 pub use geometry::{Piece, Section};
 pub use solve::{LinearSolver, Method, Options, TorsionSolution, solve};
+pub use warping::{Warping, WarpingSample};

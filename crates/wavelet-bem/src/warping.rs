@@ -1,0 +1,387 @@
+//! The warping function ω, the shear centre and the warping constant Γ,
+//! from the torsion solution itself (no second solve).
+//!
+//! ω is harmonic in Ω with ∂ω/∂n = Y n_x − X n_y on every curve (X, Y taken
+//! from the centroid x₀). The harmonic part of the Prandtl function,
+//! v = u + |x − x₀|²/2, equals |x − x₀|²/2 (+ the hole constant) on Γ, so
+//! ∂v/∂s = Y n_x − X n_y = ∂ω/∂n there: ω and v are harmonic conjugates,
+//! ∇ω = (∂v/∂y, −∂v/∂x). Along a curve, in the direction of its parameter
+//! (Ω on the left, n = (y′, −x′)/|x′|),
+//!
+//! ```text
+//! dω/dt = −∂v/∂n |x′| = −μ(t),   so   ω̂(r) = −μ̂(r) / (2πi r),  r ≠ 0,
+//! ```
+//!
+//! single valued because every curve carries ∮ q_v ds = 0 (the constraint of
+//! the augmented system). Every discretisation (Daubechies, Shannon,
+//! Nyström) therefore yields ω on Γ from its own density μ, to the accuracy
+//! of μ; the Nyström result is the cross-check of the Galerkin one.
+//!
+//! **Constants between curves.** On hole k, ω = ω̃_k + C_k. Green's second
+//! identity with h = ln|x − z_k|, z_k inside hole k (h harmonic in Ω), gives
+//!
+//! ```text
+//! C_k − C_0 = (1/2π) [ Σ_m ∮_{Γ_m} ω̃ ∂h/∂n ds − ∮_Γ h ∂ω/∂n ds ],
+//! ```
+//!
+//! (∮_{Γ_0} ∂h/∂n = 2π, ∮_{Γ_k} ∂h/∂n = −2π with n out of Ω, 0 on other holes).
+//!
+//! **Area integrals from boundary data.** With ∇²φ = f and ω harmonic,
+//! ∫ f ω dA = ∮ (ω ∂φ/∂n − φ ∂ω/∂n) ds: φ = |X|²/4 (f = 1), X³/6 (f = X),
+//! Y³/6 (f = Y). For ∫ ω² dA, ψ = ∮ [Φ ∂ω/∂n − ω ∂Φ/∂n_y] ds_y with
+//! Φ(r) = r²(1 − ln r)/8π (∇²Φ = −ln r/2π, the fundamental solution) solves
+//! ∇²ψ = ω in Ω, so ∫ ω² dA = ∮ (ω ∂ψ/∂n − ψ ∂ω/∂n) ds. Φ is C¹, so ψ and
+//! ∂ψ/∂n are continuous up to Γ; their kernels are A + B ln|2 sin π(t − s)|
+//! with A, B smooth, integrated with Kress's product weights on the graded
+//! nodes (spectral on smooth curves, the grading's order at corners).
+//!
+//! **Shear centre (Trefftz)** x_S − x₀ = (x_p, y_p) makes the warping about
+//! it, ω_S = ω − y_p X + x_p Y, orthogonal to X and Y:
+//!
+//! ```text
+//! x_p = (I_xy I_Xω − I_yy I_Yω)/Δ,   y_p = (I_xx I_Xω − I_xy I_Yω)/Δ,   Δ = I_xx I_yy − I_xy²
+//! ```
+//!
+//! (I_xx = ∫Y², I_yy = ∫X², I_xy = ∫XY, I_Xω = ∫Xω, I_Yω = ∫Yω). The
+//! warping constant is Γ = ∫ ω_n² dA with ω_n = ω_S − (1/A)∫ω_S dA, the
+//! normalised warping function about the shear centre.
+
+use crate::density::FourierDensity;
+use crate::geometry::{PointLocation, Section, V2};
+use crate::grading::{BPoint, diff};
+use crate::nystrom::kress_weights;
+use crate::solve::TorsionSolution;
+use rayon::prelude::*;
+use rustfft::num_complex::Complex64;
+use std::f64::consts::PI;
+
+/// Warping outputs of one torsion solution.
+#[derive(Clone, Debug)]
+pub struct Warping {
+    /// shear centre x_S (absolute coordinates)
+    pub shear_centre: V2,
+    /// warping constant Γ = ∫ ω_n² dA about the shear centre
+    pub warping_constant: f64,
+    /// ∫ X ω dA, ∫ Y ω dA with ω about the centroid (X = x − x₀)
+    pub product_integrals: V2,
+    /// ∫ ω₀² dA, ω₀ the normalised warping function about the centroid
+    pub centroidal_constant: f64,
+    /// ω₀ on every curve (outer first): the normalised warping function about
+    /// the centroid as a trigonometric polynomial in the curve's parameter
+    pub curves: Vec<FourierDensity>,
+    /// the centroid x₀ the curves' ω₀ refers to
+    pub centroid: V2,
+    /// number of quadrature nodes per curve
+    pub nodes: usize,
+}
+
+/// One sample of ω along a boundary curve.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct WarpingSample {
+    /// boundary curve (0: outer, k ≥ 1: hole k)
+    pub curve: usize,
+    /// parameter t ∈ [0, 1)
+    pub t: f64,
+    /// position
+    pub x: V2,
+    /// ω_n, the normalised warping function about the shear centre
+    pub omega: f64,
+}
+
+impl Warping {
+    /// ω_n (normalised, about the shear centre) at parameter t of curve k,
+    /// given the position x there.
+    pub fn omega_at(&self, k: usize, t: f64, x: V2) -> f64 {
+        let (xp, yp) = (
+            self.shear_centre[0] - self.centroid[0],
+            self.shear_centre[1] - self.centroid[1],
+        );
+        let (dx, dy) = (x[0] - self.centroid[0], x[1] - self.centroid[1]);
+        self.curves[k].eval(t) - yp * dx + xp * dy
+    }
+}
+
+/// Antiderivative −∫ μ dt of a zero-mean trigonometric density.
+fn antiderivative(mu: &FourierDensity) -> FourierDensity {
+    let r_max = mu.max_freq as i64;
+    let coef = mu
+        .coef
+        .iter()
+        .enumerate()
+        .map(|(idx, c)| {
+            let r = idx as i64 - r_max;
+            if r == 0 {
+                Complex64::new(0.0, 0.0)
+            } else {
+                -c / Complex64::new(0.0, 2.0 * PI * r as f64)
+            }
+        })
+        .collect();
+    FourierDensity {
+        coef,
+        max_freq: mu.max_freq,
+    }
+}
+
+/// A point well inside the (simply connected) region bounded by `hole`: the
+/// hole's centroid if it lies inside, else the inside point of a 48 × 48
+/// grid over its bounding box farthest from its boundary.
+fn point_inside(hole: &Section) -> V2 {
+    let poly = crate::polyline::polyline(&hole.pieces, 64);
+    let c = hole.centroid;
+    if crate::polyline::winding(&poly, c) != 0 {
+        return c;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &poly {
+        for d in 0..2 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    let g = 48;
+    let mut best = (0.0, c);
+    for i in 0..g {
+        for j in 0..g {
+            let p = [
+                lo[0] + (hi[0] - lo[0]) * (i as f64 + 0.5) / g as f64,
+                lo[1] + (hi[1] - lo[1]) * (j as f64 + 0.5) / g as f64,
+            ];
+            if crate::polyline::winding(&poly, p) != 0 {
+                let d = crate::polyline::polyline_distance(&poly, p);
+                if d > best.0 {
+                    best = (d, p);
+                }
+            }
+        }
+    }
+    best.1
+}
+
+/// Boundary data at the quadrature nodes of all curves.
+struct Nodes {
+    pts: Vec<BPoint>,
+    /// ω on each node (about the centroid)
+    omega: Vec<f64>,
+    /// ∂ω/∂n = Y n_x − X n_y
+    flux: Vec<f64>,
+    /// nodes per curve
+    m: usize,
+}
+
+impl Nodes {
+    /// Σ over all nodes of f(x, n, |x′|, ω, ∂ω/∂n) |x′| / m: ∮ f ds.
+    fn integrate(&self, f: impl Fn(V2, V2, f64, f64) -> f64) -> f64 {
+        let h = 1.0 / self.m as f64;
+        self.pts
+            .iter()
+            .zip(&self.omega)
+            .zip(&self.flux)
+            .map(|((p, &w), &q)| f(p.x(), p.normal(), w, q) * p.speed() * h)
+            .sum()
+    }
+}
+
+/// ∫ ω² dA by the Φ double integral (see the module notes).
+fn omega_squared_integral(nd: &Nodes) -> f64 {
+    let m = nd.m;
+    let big = nd.pts.len();
+    let r = kress_weights(m);
+    let h = 1.0 / m as f64;
+    let sines: Vec<f64> = (0..m)
+        .map(|k| (2.0 * (PI * k as f64 / m as f64).sin()).abs().ln())
+        .collect();
+    let c8 = 1.0 / (8.0 * PI);
+    let rows: Vec<f64> = (0..big)
+        .into_par_iter()
+        .map(|i| {
+            let xi = &nd.pts[i];
+            let nx = xi.normal();
+            let (mut psi, mut chi) = (0.0, 0.0);
+            for j in 0..big {
+                let yj = &nd.pts[j];
+                let ny = yj.normal();
+                let sp = yj.speed();
+                let (qj, wj) = (nd.flux[j] * sp, nd.omega[j] * sp);
+                let same = i / m == j / m;
+                let nn = nx[0] * ny[0] + nx[1] * ny[1];
+                // A (smooth part) and B (coefficient of ln|2 sin π(t − s)|) of the kernels
+                let (a_phi, a_dny, a_dnx, a_dd, b_phi, b_dny, b_dnx, b_dd);
+                if i == j {
+                    let l = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+                    (a_phi, a_dny, a_dnx) = (0.0, 0.0, 0.0);
+                    a_dd = -(1.0 - 2.0 * l) * c8;
+                    (b_phi, b_dny, b_dnx) = (0.0, 0.0, 0.0);
+                    b_dd = 2.0 * c8;
+                } else {
+                    let d = diff(xi, yj);
+                    let r2 = d[0] * d[0] + d[1] * d[1];
+                    let lnr = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
+                    let dnx = d[0] * nx[0] + d[1] * nx[1];
+                    let dny = d[0] * ny[0] + d[1] * ny[1];
+                    let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
+                    // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|), L = ln r across curves
+                    let l = if same {
+                        lnr - sines[(i % m).abs_diff(j % m)]
+                    } else {
+                        lnr
+                    };
+                    a_phi = r2 * (1.0 - l) * c8;
+                    a_dny = -(1.0 - 2.0 * l) * dny * c8;
+                    a_dnx = (1.0 - 2.0 * l) * dnx * c8;
+                    a_dd = (cross - (1.0 - 2.0 * l) * nn) * c8;
+                    if same {
+                        b_phi = -r2 * c8;
+                        b_dny = 2.0 * dny * c8;
+                        b_dnx = -2.0 * dnx * c8;
+                        b_dd = 2.0 * nn * c8;
+                    } else {
+                        (b_phi, b_dny, b_dnx, b_dd) = (0.0, 0.0, 0.0, 0.0);
+                    }
+                }
+                let wr = if same {
+                    r[((i % m) + m - (j % m)) % m]
+                } else {
+                    0.0
+                };
+                psi += h * (a_phi * qj - a_dny * wj) + wr * (b_phi * qj - b_dny * wj);
+                chi += h * (a_dnx * qj - a_dd * wj) + wr * (b_dnx * qj - b_dd * wj);
+            }
+            (nd.omega[i] * chi - psi * nd.flux[i]) * xi.speed() * h
+        })
+        .collect();
+    rows.iter().sum()
+}
+
+impl TorsionSolution {
+    /// The warping function, shear centre and warping constant from this
+    /// solution's densities (see [`crate::warping`]), with quadrature on the
+    /// solve's n nodes per curve.
+    pub fn warping(&self) -> Warping {
+        let m = self.options.n.max(16);
+        let x0 = self.centroid;
+        let kc = self.curve_count();
+        let sec = &self.section;
+        let curves = sec.curves();
+        // ω̃ per curve and its node values
+        let mut tilde: Vec<FourierDensity> = (0..kc)
+            .map(|k| {
+                let dens = if k == 0 {
+                    &self.density
+                } else {
+                    &self.holes[k - 1].density
+                };
+                antiderivative(dens)
+            })
+            .collect();
+        let params: Vec<_> = std::iter::once(&self.param)
+            .chain(self.holes.iter().map(|h| &h.param))
+            .collect();
+        let mut pts = Vec::with_capacity(kc * m);
+        let mut omega = Vec::with_capacity(kc * m);
+        for k in 0..kc {
+            pts.extend(params[k].nodes(curves[k], m));
+            omega.extend(tilde[k].sample(m, 0.5));
+        }
+        let flux: Vec<f64> = pts
+            .iter()
+            .map(|p| {
+                let x = p.x();
+                let n = p.normal();
+                (x[1] - x0[1]) * n[0] - (x[0] - x0[0]) * n[1]
+            })
+            .collect();
+        let mut nd = Nodes {
+            pts,
+            omega,
+            flux,
+            m,
+        };
+        // constants of the holes relative to the outer curve
+        for k in 1..kc {
+            let z = point_inside(curves[k]);
+            match sec.holes[k - 1].locate(z) {
+                PointLocation::Inside => {}
+                _ => continue,
+            }
+            let d = nd.integrate(|x, n, w, q| {
+                let dx = [x[0] - z[0], x[1] - z[1]];
+                let r2 = dx[0] * dx[0] + dx[1] * dx[1];
+                w * (dx[0] * n[0] + dx[1] * n[1]) / r2 - 0.5 * r2.ln() * q
+            });
+            let ck = d / (2.0 * PI);
+            for w in &mut nd.omega[k * m..(k + 1) * m] {
+                *w += ck;
+            }
+            let r0 = tilde[k].max_freq;
+            tilde[k].coef[r0] += Complex64::new(ck, 0.0);
+        }
+        // mean over the area, then normalise
+        let area = sec.area;
+        let int_w = nd.integrate(|x, n, w, q| {
+            let dx = [x[0] - x0[0], x[1] - x0[1]];
+            w * 0.5 * (dx[0] * n[0] + dx[1] * n[1]) - 0.25 * (dx[0] * dx[0] + dx[1] * dx[1]) * q
+        });
+        let mean = int_w / area;
+        for w in &mut nd.omega {
+            *w -= mean;
+        }
+        for t in &mut tilde {
+            let r0 = t.max_freq;
+            t.coef[r0] -= Complex64::new(mean, 0.0);
+        }
+        let ixw = nd.integrate(|x, n, w, q| {
+            let dx = x[0] - x0[0];
+            0.5 * w * dx * dx * n[0] - dx.powi(3) / 6.0 * q
+        });
+        let iyw = nd.integrate(|x, n, w, q| {
+            let dy = x[1] - x0[1];
+            0.5 * w * dy * dy * n[1] - dy.powi(3) / 6.0 * q
+        });
+        let iww = omega_squared_integral(&nd);
+        let props = sec.properties();
+        let delta = props.ixx * props.iyy - props.ixy * props.ixy;
+        let xp = (props.ixy * ixw - props.iyy * iyw) / delta;
+        let yp = (props.ixx * ixw - props.ixy * iyw) / delta;
+        let gamma = iww - 2.0 * yp * ixw + 2.0 * xp * iyw + yp * yp * props.iyy + xp * xp * props.ixx
+            - 2.0 * xp * yp * props.ixy;
+        Warping {
+            shear_centre: [x0[0] + xp, x0[1] + yp],
+            warping_constant: gamma,
+            product_integrals: [ixw, iyw],
+            centroidal_constant: iww,
+            curves: tilde,
+            centroid: x0,
+            nodes: m,
+        }
+    }
+
+    /// ω_n (normalised, about the shear centre) at `m` equally spaced
+    /// parameters of every curve.
+    pub fn warping_samples(&self, w: &Warping, m: usize) -> Vec<WarpingSample> {
+        let curves = self.section.curves();
+        let params: Vec<_> = std::iter::once(&self.param)
+            .chain(self.holes.iter().map(|h| &h.param))
+            .collect();
+        let mut out = Vec::new();
+        for (k, (c, p)) in curves.iter().zip(params).enumerate() {
+            let vals = w.curves[k].sample(m, 0.5);
+            for (j, v) in vals.iter().enumerate() {
+                let t = (j as f64 + 0.5) / m as f64;
+                let x = p.eval(c, t).x();
+                let (xp, yp) = (
+                    w.shear_centre[0] - w.centroid[0],
+                    w.shear_centre[1] - w.centroid[1],
+                );
+                let omega = v - yp * (x[0] - w.centroid[0]) + xp * (x[1] - w.centroid[1]);
+                out.push(WarpingSample {
+                    curve: k,
+                    t,
+                    x,
+                    omega,
+                });
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,183 @@
+//! Warping function ω, shear centre and warping constant Γ.
+//!
+//! Reference: ω of the ellipse x²/a² + y²/b² ≤ 1 is −(a² − b²)/(a² + b²) xy, so
+//! Γ = k² π a³ b³ / 24; ω of the rectangle |x| ≤ a, |y| ≤ b is
+//! xy + Σ_n c_n sin(k_n x) sinh(k_n y)/cosh(k_n b), k_n = (2n + 1)π/(2a),
+//! c_n = −32 a² (−1)ⁿ/((2n + 1)³ π³) (Timoshenko & Goodier §109), whose Γ is
+//! integrated term by term below. Goal: ω on Γ, the shear centre and Γ from
+//! the torsion solution, Galerkin and Nyström alike, solid and hollow.
+//!
+//! ```text
+//!   ellipse          rectangle 2a × 2b        box (hollow)       channel
+//!    .-""-.          +-----------+          +---------+        +------
+//!   (   +  )         |     +     |          | +-----+ |        | +----
+//!    '-..-'          +-----------+          | +-----+ |        | |  x_S left of the web
+//!                                           +---------+        | +----
+//!                                                              +------
+//! ```
+use std::f64::consts::PI;
+use tecon_wavelet_bem::{Method, Options, sections, solve, solve_to_tolerance};
+
+fn opts(method: Method, n: usize) -> Options {
+    Options {
+        n,
+        method,
+        ..Options::default()
+    }
+}
+
+/// ω of the rectangle |x| ≤ a, |y| ≤ b (series; for |y| well inside, fast).
+fn rectangle_omega(a: f64, b: f64, x: f64, y: f64) -> f64 {
+    let mut s = x * y;
+    for n in 0..2000 {
+        let m = (2 * n + 1) as f64;
+        let k = m * PI / (2.0 * a);
+        let c = -32.0 * a * a * if n % 2 == 0 { 1.0 } else { -1.0 } / (m.powi(3) * PI.powi(3));
+        // sinh(ky)/cosh(kb) without overflow
+        let r = ((k * (y.abs() - b)).exp() - (-k * (y.abs() + b)).exp())
+            / (1.0 + (-2.0 * k * b).exp())
+            * y.signum();
+        s += c * (k * x).sin() * r;
+    }
+    s
+}
+
+/// Γ = ∫ ω² dA of the rectangle, term by term (terms decay like n⁻⁶).
+fn rectangle_gamma(a: f64, b: f64) -> f64 {
+    let mut g = 4.0 * a.powi(3) * b.powi(3) / 9.0;
+    for n in 0..200_000 {
+        let m = (2 * n + 1) as f64;
+        let k = m * PI / (2.0 * a);
+        let sg = if n % 2 == 0 { 1.0 } else { -1.0 };
+        let c = -32.0 * a * a * sg / (m.powi(3) * PI.powi(3));
+        let t = (k * b).tanh();
+        // 2 ∫∫ xy φ: ∫x sin(kx) = 2(−1)ⁿ/k², ∫ y sinh(ky)/cosh(kb) = 2(b/k − tanh(kb)/k²)
+        g += 2.0 * c * (2.0 * sg / (k * k)) * 2.0 * (b / k - t / (k * k));
+        // ∫∫ φ²: ∫ sin² = a, ∫ sinh²(ky)/cosh²(kb) = tanh(kb)/k − b/cosh²(kb)
+        let sech2 = 1.0 - t * t;
+        g += c * c * a * (t / k - b * sech2);
+    }
+    g
+}
+
+#[test]
+fn ellipse_warping_is_exact_in_galerkin_and_nystrom() {
+    let (a, b) = (2.0, 1.0);
+    let k = -(a * a - b * b) / (a * a + b * b);
+    let exact = k * k * PI * a.powi(3) * b.powi(3) / 24.0;
+    for (method, n) in [(Method::Daubechies, 128), (Method::Nystrom, 64)] {
+        let sec = sections::ellipse(a, b).unwrap();
+        let sol = solve(&sec, &opts(method, n)).unwrap();
+        let w = sol.warping();
+        let err = sol
+            .warping_samples(&w, 97)
+            .iter()
+            .map(|p| (p.omega - k * p.x[0] * p.x[1]).abs())
+            .fold(0.0, f64::max);
+        assert!(err < 1e-12, "{method}: max |ω − ω_exact| = {err:e}");
+        let rel = (w.warping_constant - exact).abs() / exact;
+        assert!(rel < 1e-12, "{method}: Γ relative error {rel:e}");
+        assert!(w.shear_centre[0].hypot(w.shear_centre[1]) < 1e-13);
+        // moved and turned: the shear centre follows the centroid, Γ is invariant
+        let moved = sec.rotated(0.7).unwrap().translated([3.0, -1.5]).unwrap();
+        let wm = solve(&moved, &opts(method, n)).unwrap().warping();
+        let d = [wm.shear_centre[0] - 3.0, wm.shear_centre[1] + 1.5];
+        assert!(d[0].hypot(d[1]) < 1e-12, "{method}: shear centre {d:?} off the centroid");
+        assert!((wm.warping_constant - exact).abs() < 1e-12 * exact);
+    }
+}
+
+#[test]
+fn rectangle_against_the_series() {
+    let (a, b) = (1.0, 0.5);
+    let exact = rectangle_gamma(a, b);
+    for method in [Method::Daubechies, Method::Nystrom] {
+        let sec = sections::rectangle(2.0 * a, 2.0 * b).unwrap();
+        let sol = solve(&sec, &opts(method, 512)).unwrap();
+        let w = sol.warping();
+        let rel = (w.warping_constant - exact).abs() / exact;
+        assert!(rel < 1e-11, "{method}: Γ = {} vs {exact}: {rel:e}", w.warping_constant);
+        assert!(w.shear_centre[0].hypot(w.shear_centre[1]) < 1e-13);
+        // ω on the short sides x = ±a, |y| ≤ 0.3 (series converges fast there)
+        let mut worst = 0.0f64;
+        for s in sol.warping_samples(&w, 256) {
+            if (s.x[0].abs() - a).abs() < 1e-12 && s.x[1].abs() <= 0.3 {
+                let e = (s.omega - rectangle_omega(a, b, s.x[0], s.x[1])).abs();
+                worst = worst.max(e);
+            }
+        }
+        assert!(worst > 0.0 && worst < 1e-11, "{method}: ω error {worst:e}");
+    }
+}
+
+/// Γ error of the rectangle against n: fitted slope of log error vs log n.
+#[test]
+fn rectangle_observed_order() {
+    let (a, b) = (1.0, 0.5);
+    let exact = rectangle_gamma(a, b);
+    let sec = sections::rectangle(2.0 * a, 2.0 * b).unwrap();
+    let ns = [64usize, 128, 256];
+    let errs: Vec<f64> = ns
+        .iter()
+        .map(|&n| {
+            let o = Options {
+                wavelet_order: 2,
+                ..opts(Method::Daubechies, n)
+            };
+            let w = solve(&sec, &o).unwrap().warping();
+            (w.warping_constant - exact).abs() / exact
+        })
+        .collect();
+    let xs: Vec<f64> = ns.iter().map(|&n| (n as f64).ln()).collect();
+    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
+    let (mx, my) = (xs.iter().sum::<f64>() / 3.0, ys.iter().sum::<f64>() / 3.0);
+    let slope = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+        / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
+    println!("db2 Γ errors {errs:?}, slope {slope:.2}");
+    assert!(-slope > 4.5, "observed order {:.2} (errors {errs:?})", -slope);
+}
+
+#[test]
+fn hollow_sections_galerkin_and_nystrom_agree() {
+    // box symmetric in x and y: the shear centre is at its centre
+    let bx = sections::parse_spec("box:w=2,h=1,t=0.1").unwrap();
+    let g = solve(&bx, &opts(Method::Daubechies, 512)).unwrap().warping();
+    let ny = solve(&bx, &opts(Method::Nystrom, 512)).unwrap().warping();
+    assert!(g.shear_centre[0].hypot(g.shear_centre[1]) < 1e-12);
+    let rel = (g.warping_constant - ny.warping_constant).abs() / g.warping_constant;
+    assert!(rel < 1e-10, "box Γ: {} vs {}", g.warping_constant, ny.warping_constant);
+    // thick concentric tube: ω ≡ 0, Γ = 0 (to the scale I_p²/A)
+    let tube = sections::tube(1.0, 0.6).unwrap();
+    let w = solve(&tube, &opts(Method::Daubechies, 128)).unwrap().warping();
+    let scale = tube.polar_moment().powi(2) / tube.area;
+    assert!(w.warping_constant.abs() < 1e-13 * scale, "tube Γ {}", w.warping_constant);
+    // eccentric hole in a disc: symmetric about y = 0 only
+    let outer = sections::circle(1.0).unwrap();
+    let hole = sections::circle(0.3).unwrap().translated([0.35, 0.0]).unwrap();
+    let sec = tecon_wavelet_bem::Section::with_holes(outer, vec![hole]).unwrap();
+    let g = solve(&sec, &opts(Method::Daubechies, 256)).unwrap().warping();
+    let ny = solve(&sec, &opts(Method::Nystrom, 256)).unwrap().warping();
+    assert!(g.shear_centre[1].abs() < 1e-12, "off the axis of symmetry");
+    assert!((g.shear_centre[0] - ny.shear_centre[0]).abs() < 1e-11);
+    assert!((g.warping_constant - ny.warping_constant).abs() < 1e-10 * g.warping_constant);
+    assert!(g.warping_constant > 0.0);
+}
+
+#[test]
+fn channel_shear_centre_lies_on_the_axis_and_outside_the_web() {
+    // web x ∈ [0, 0.1], flanges 0.1 thick to x = 1; symmetric about y = 0.5
+    let sec = sections::parse_spec("polygon:0,0;1,0;1,0.1;0.1,0.1;0.1,0.9;1,0.9;1,1;0,1").unwrap();
+    let c = solve_to_tolerance(&sec, &opts(Method::Daubechies, 8), 1e-8, 2048).unwrap();
+    assert!(c.converged, "{:?}", c.warnings);
+    let s = c.warping.shear_centre;
+    assert!((s[1] - 0.5).abs() < 1e-8, "y_S = {}", s[1]);
+    assert!(s[0] < 0.0, "x_S = {} should lie outside the web", s[0]);
+    // Nyström at the same n agrees within the reported estimate
+    let ny = solve(&sec, &opts(Method::Nystrom, c.solution.options.n)).unwrap().warping();
+    let rg = (sec.polar_moment() / sec.area).sqrt();
+    assert!((ny.shear_centre[0] - s[0]).abs() / rg < 10.0 * c.shear_centre_error.max(1e-12));
+    assert!(
+        (ny.warping_constant - c.warping.warping_constant).abs() / c.warping.warping_constant
+            < 10.0 * c.warping_error.max(1e-12)
+    );
+}
