@@ -77,7 +77,10 @@ fn ellipse_json_matches_closed_form_for_every_method() {
         let g = v["warping_constant"].as_f64().unwrap();
         assert!((g / gamma - 1.0).abs() < 1e-12, "{m}: Γ {g}");
         let sc = v["shear_centre"].as_array().unwrap();
-        assert!(sc.iter().all(|c| c.as_f64().unwrap().abs() < 1e-12), "{m}: {sc:?}");
+        assert!(
+            sc.iter().all(|c| c.as_f64().unwrap().abs() < 1e-12),
+            "{m}: {sc:?}"
+        );
         let e = &v["estimated_error"];
         assert!(e["shear_centre"].as_f64().unwrap() <= 1e-8);
         assert!(e["warping_constant"].as_f64().unwrap() <= 1e-8);

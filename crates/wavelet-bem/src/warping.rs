@@ -343,8 +343,9 @@ impl TorsionSolution {
         let delta = props.ixx * props.iyy - props.ixy * props.ixy;
         let xp = (props.ixy * ixw - props.iyy * iyw) / delta;
         let yp = (props.ixx * ixw - props.ixy * iyw) / delta;
-        let gamma = iww - 2.0 * yp * ixw + 2.0 * xp * iyw + yp * yp * props.iyy + xp * xp * props.ixx
-            - 2.0 * xp * yp * props.ixy;
+        let gamma =
+            iww - 2.0 * yp * ixw + 2.0 * xp * iyw + yp * yp * props.iyy + xp * xp * props.ixx
+                - 2.0 * xp * yp * props.ixy;
         Warping {
             shear_centre: [x0[0] + xp, x0[1] + yp],
             warping_constant: gamma,

@@ -82,7 +82,10 @@ fn ellipse_warping_is_exact_in_galerkin_and_nystrom() {
         let moved = sec.rotated(0.7).unwrap().translated([3.0, -1.5]).unwrap();
         let wm = solve(&moved, &opts(method, n)).unwrap().warping();
         let d = [wm.shear_centre[0] - 3.0, wm.shear_centre[1] + 1.5];
-        assert!(d[0].hypot(d[1]) < 1e-12, "{method}: shear centre {d:?} off the centroid");
+        assert!(
+            d[0].hypot(d[1]) < 1e-12,
+            "{method}: shear centre {d:?} off the centroid"
+        );
         assert!((wm.warping_constant - exact).abs() < 1e-12 * exact);
     }
 }
@@ -96,7 +99,11 @@ fn rectangle_against_the_series() {
         let sol = solve(&sec, &opts(method, 512)).unwrap();
         let w = sol.warping();
         let rel = (w.warping_constant - exact).abs() / exact;
-        assert!(rel < 1e-11, "{method}: Γ = {} vs {exact}: {rel:e}", w.warping_constant);
+        assert!(
+            rel < 1e-11,
+            "{method}: Γ = {} vs {exact}: {rel:e}",
+            w.warping_constant
+        );
         assert!(w.shear_centre[0].hypot(w.shear_centre[1]) < 1e-13);
         // ω on the short sides x = ±a, |y| ≤ 0.3 (series converges fast there)
         let mut worst = 0.0f64;
@@ -131,31 +138,57 @@ fn rectangle_observed_order() {
     let xs: Vec<f64> = ns.iter().map(|&n| (n as f64).ln()).collect();
     let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
     let (mx, my) = (xs.iter().sum::<f64>() / 3.0, ys.iter().sum::<f64>() / 3.0);
-    let slope = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+    let slope = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
         / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
     println!("db2 Γ errors {errs:?}, slope {slope:.2}");
-    assert!(-slope > 4.5, "observed order {:.2} (errors {errs:?})", -slope);
+    assert!(
+        -slope > 4.5,
+        "observed order {:.2} (errors {errs:?})",
+        -slope
+    );
 }
 
 #[test]
 fn hollow_sections_galerkin_and_nystrom_agree() {
     // box symmetric in x and y: the shear centre is at its centre
     let bx = sections::parse_spec("box:w=2,h=1,t=0.1").unwrap();
-    let g = solve(&bx, &opts(Method::Daubechies, 512)).unwrap().warping();
+    let g = solve(&bx, &opts(Method::Daubechies, 512))
+        .unwrap()
+        .warping();
     let ny = solve(&bx, &opts(Method::Nystrom, 512)).unwrap().warping();
     assert!(g.shear_centre[0].hypot(g.shear_centre[1]) < 1e-12);
     let rel = (g.warping_constant - ny.warping_constant).abs() / g.warping_constant;
-    assert!(rel < 1e-10, "box Γ: {} vs {}", g.warping_constant, ny.warping_constant);
+    assert!(
+        rel < 1e-10,
+        "box Γ: {} vs {}",
+        g.warping_constant,
+        ny.warping_constant
+    );
     // thick concentric tube: ω ≡ 0, Γ = 0 (to the scale I_p²/A)
     let tube = sections::tube(1.0, 0.6).unwrap();
-    let w = solve(&tube, &opts(Method::Daubechies, 128)).unwrap().warping();
+    let w = solve(&tube, &opts(Method::Daubechies, 128))
+        .unwrap()
+        .warping();
     let scale = tube.polar_moment().powi(2) / tube.area;
-    assert!(w.warping_constant.abs() < 1e-13 * scale, "tube Γ {}", w.warping_constant);
+    assert!(
+        w.warping_constant.abs() < 1e-13 * scale,
+        "tube Γ {}",
+        w.warping_constant
+    );
     // eccentric hole in a disc: symmetric about y = 0 only
     let outer = sections::circle(1.0).unwrap();
-    let hole = sections::circle(0.3).unwrap().translated([0.35, 0.0]).unwrap();
+    let hole = sections::circle(0.3)
+        .unwrap()
+        .translated([0.35, 0.0])
+        .unwrap();
     let sec = tecon_wavelet_bem::Section::with_holes(outer, vec![hole]).unwrap();
-    let g = solve(&sec, &opts(Method::Daubechies, 256)).unwrap().warping();
+    let g = solve(&sec, &opts(Method::Daubechies, 256))
+        .unwrap()
+        .warping();
     let ny = solve(&sec, &opts(Method::Nystrom, 256)).unwrap().warping();
     assert!(g.shear_centre[1].abs() < 1e-12, "off the axis of symmetry");
     assert!((g.shear_centre[0] - ny.shear_centre[0]).abs() < 1e-11);
@@ -173,7 +206,9 @@ fn channel_shear_centre_lies_on_the_axis_and_outside_the_web() {
     assert!((s[1] - 0.5).abs() < 1e-8, "y_S = {}", s[1]);
     assert!(s[0] < 0.0, "x_S = {} should lie outside the web", s[0]);
     // Nyström at the same n agrees within the reported estimate
-    let ny = solve(&sec, &opts(Method::Nystrom, c.solution.options.n)).unwrap().warping();
+    let ny = solve(&sec, &opts(Method::Nystrom, c.solution.options.n))
+        .unwrap()
+        .warping();
     let rg = (sec.polar_moment() / sec.area).sqrt();
     assert!((ny.shear_centre[0] - s[0]).abs() / rg < 10.0 * c.shear_centre_error.max(1e-12));
     assert!(
