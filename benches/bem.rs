@@ -74,7 +74,8 @@ fn bench(c: &mut Criterion) {
                 |b, &n| {
                     b.iter(|| {
                         p.install(|| {
-                            shannon::assemble(&sec, &param, n).map(|s| black_box(s.matrix.len()))
+                            shannon::assemble(&sec, std::slice::from_ref(&param), n)
+                                .map(|s| black_box(s.matrix.len()))
                         })
                     })
                 },

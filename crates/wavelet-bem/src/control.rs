@@ -212,6 +212,12 @@ pub fn solve_to_tolerance(
             reason: format!("the tolerance must lie in (0, 1), got {tol:e}"),
         });
     }
+    // the oversampled Shannon method stores its transformed kernel densely
+    let n_max = if opts.method == Method::Shannon {
+        n_max.min(crate::shannon::MAX_N)
+    } else {
+        n_max
+    };
     let n0 = starting_n(section, opts).max(opts.n);
     let mut start_warning = None;
     if n0 > n_max {

@@ -12,7 +12,8 @@
 //! Three discretisations share the graded periodic parametrisation
 //! ([`grading`]) and the log-kernel split ln|x(s) − x(t)| = ln|2 sin π(s − t)| + L(s, t):
 //! periodised Daubechies wavelet Galerkin ([`galerkin`], the default), harmonic
-//! (Shannon) wavelet Galerkin ([`shannon`], spectral) and Kress Nyström
+//! (Shannon) wavelet Galerkin with oversampled quadrature ([`shannon`],
+//! spectral, the independent cross-check) and Kress Nyström
 //! ([`nystrom`], the reference).
 //!
 //! ```no_run

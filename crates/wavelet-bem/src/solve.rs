@@ -16,7 +16,8 @@ use std::f64::consts::PI;
 pub enum Method {
     /// periodised Daubechies wavelet Galerkin (default)
     Daubechies,
-    /// harmonic (Shannon) wavelet Galerkin: spectral
+    /// harmonic (Shannon) wavelet Galerkin with oversampled quadrature:
+    /// spectral, the independent cross-check
     Shannon,
     /// Kress Nyström with log product weights: reference
     Nystrom,
@@ -216,7 +217,7 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
             }
         }
         Method::Daubechies => galerkin::solve(section, &params, opts)?,
-        Method::Shannon => shannon::solve(section, &params[0], opts)?,
+        Method::Shannon => shannon::solve(section, &params, opts)?,
     };
     let ip = section.polar_moment();
     let j = ip - 0.5 * raw.j_integral;

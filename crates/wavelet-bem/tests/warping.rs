@@ -216,3 +216,95 @@ fn channel_shear_centre_lies_on_the_axis_and_outside_the_web() {
             < 10.0 * c.warping_error.max(1e-12)
     );
 }
+
+/// The oversampled Shannon method is a discretisation of its own (it does not
+/// reproduce the Nyström numbers at the same n) and converges to the same J
+/// and Γ on solid and hollow sections.
+#[test]
+fn shannon_is_an_independent_cross_check() {
+    for spec in ["box:w=2,h=1,t=0.1", "rectangle:w=2,h=1"] {
+        let sec = sections::parse_spec(spec).unwrap();
+        let g = solve(&sec, &opts(Method::Daubechies, 512)).unwrap();
+        let s = solve(&sec, &opts(Method::Shannon, 512)).unwrap();
+        let (gw, sw) = (g.warping(), s.warping());
+        let dj = (s.torsional_rigidity / g.torsional_rigidity - 1.0).abs();
+        let dg = (sw.warping_constant / gw.warping_constant - 1.0).abs();
+        assert!(dj < 1e-10 && dg < 1e-10, "{spec}: J {dj:e}, Γ {dg:e}");
+        // at a coarse n the two collocation-free and collocation results differ
+        let s64 = solve(&sec, &opts(Method::Shannon, 64)).unwrap();
+        let n64 = solve(&sec, &opts(Method::Nystrom, 64)).unwrap();
+        let d = (s64.torsional_rigidity / n64.torsional_rigidity - 1.0).abs();
+        assert!(
+            d > 1e-9,
+            "{spec}: Shannon and Nyström agree to {d:e} at n = 64"
+        );
+    }
+    // eccentric hole: Shannon against Galerkin on J, shear centre and Γ
+    let outer = sections::circle(1.0).unwrap();
+    let hole = sections::circle(0.3)
+        .unwrap()
+        .translated([0.35, 0.0])
+        .unwrap();
+    let sec = tecon_wavelet_bem::Section::with_holes(outer, vec![hole]).unwrap();
+    let g = solve(&sec, &opts(Method::Daubechies, 256)).unwrap();
+    let s = solve(&sec, &opts(Method::Shannon, 128)).unwrap();
+    assert!((s.torsional_rigidity / g.torsional_rigidity - 1.0).abs() < 1e-12);
+    let (gw, sw) = (g.warping(), s.warping());
+    assert!((gw.shear_centre[0] - sw.shear_centre[0]).abs() < 1e-12);
+    assert!((gw.warping_constant / sw.warping_constant - 1.0).abs() < 1e-11);
+}
+
+/// J, Γ and the Trefftz shear centre of a box, a monosymmetric I and a
+/// channel against our own sectionproperties 3.10.2 runs
+/// (tests/data/sectionproperties.toml: versions, meshes, procedure).
+/// sectionproperties converges slowly at the re-entrant corners, so its error
+/// is judged by its own last mesh-to-mesh difference d: our converged value
+/// must lie within 3 d (+ 1e-9 of the section's scale) of its finest result.
+#[test]
+fn against_sectionproperties() {
+    let text = include_str!("data/sectionproperties.toml");
+    let data: toml::Table = text.parse().unwrap();
+    let cases = data["case"].as_array().unwrap();
+    assert_eq!(cases.len(), 3);
+    for c in cases {
+        let spec = c["spec"].as_str().unwrap();
+        let sec = sections::parse_spec(spec).unwrap();
+        let ctl = solve_to_tolerance(&sec, &opts(Method::Daubechies, 8), 1e-8, 2048).unwrap();
+        assert!(ctl.converged, "{spec}: {:?}", ctl.warnings);
+        let rg = (sec.polar_moment() / sec.area).sqrt();
+        let ours = [
+            (
+                "j",
+                ctl.solution.torsional_rigidity,
+                ctl.solution.torsional_rigidity,
+            ),
+            (
+                "gamma",
+                ctl.warping.warping_constant,
+                ctl.warping.warping_constant,
+            ),
+            ("sc_x", ctl.warping.shear_centre[0], rg),
+            ("sc_y", ctl.warping.shear_centre[1], rg),
+        ];
+        for (key, v, scale) in ours {
+            let sp: Vec<f64> = c[key]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_float().unwrap())
+                .collect();
+            let (fine, prev) = (sp[sp.len() - 1], sp[sp.len() - 2]);
+            let d = (fine - prev).abs();
+            let dev = (v - fine).abs();
+            println!(
+                "{spec} {key}: ours {v:.12e} (n = {}), sectionproperties {fine:.12e}, \
+                 |ours − sp| = {dev:.2e}, sp last difference {d:.2e}",
+                ctl.solution.options.n
+            );
+            assert!(
+                dev <= 3.0 * d + 1e-9 * scale.abs(),
+                "{spec} {key}: ours {v} vs sectionproperties {fine} (its last difference {d:e})"
+            );
+        }
+    }
+}
