@@ -134,10 +134,8 @@ fn point_inside(hole: &Section) -> V2 {
     }
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in &poly {
-        for d in 0..2 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
+        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
     }
     let g = 48;
     let mut best = (0.0, c);
@@ -279,9 +277,9 @@ impl TorsionSolution {
             .collect();
         let mut pts = Vec::with_capacity(kc * m);
         let mut omega = Vec::with_capacity(kc * m);
-        for k in 0..kc {
-            pts.extend(params[k].nodes(curves[k], m));
-            omega.extend(tilde[k].sample(m, 0.5));
+        for ((p, c), t) in params.iter().zip(&curves).zip(&tilde) {
+            pts.extend(p.nodes(c, m));
+            omega.extend(t.sample(m, 0.5));
         }
         let flux: Vec<f64> = pts
             .iter()
