@@ -303,6 +303,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             sync_interval: Some(c.sync_interval),
             tolerance: Some(c.tolerance),
             max_iterations: Some(c.max_iterations),
+            sync_tolerance: c.sync_tolerance,
         }),
         source: "tecon vessel".into(),
         staged_pressure: true,

@@ -203,6 +203,10 @@ pub struct CouplingSection {
     pub tolerance: Option<f64>,
     /// two-way: most coupling iterations per block (default 30).
     pub max_iterations: Option<usize>,
+    /// two-way: adaptive blocks with this largest relative conductance
+    /// error per block (default 0.01; fixed blocks when only
+    /// `sync_interval` is given).
+    pub sync_tolerance: Option<f64>,
 }
 
 /// The coupling of `[coupling]` (absent: one-way).
@@ -216,6 +220,7 @@ pub fn coupling(f: &Path, c: Option<&CouplingSection>, has_thermal: bool) -> Cli
                 ("sync_interval", c.sync_interval.is_some()),
                 ("tolerance", c.tolerance.is_some()),
                 ("max_iterations", c.max_iterations.is_some()),
+                ("sync_tolerance", c.sync_tolerance.is_some()),
             ] {
                 if s {
                     return Err(err(
@@ -249,10 +254,23 @@ pub fn coupling(f: &Path, c: Option<&CouplingSection>, has_thermal: bool) -> Cli
             if max_iterations == 0 {
                 return Err(err(f, "coupling.max_iterations: at least 1"));
             }
+            let sync_tolerance = match (c.sync_interval, c.sync_tolerance) {
+                (Some(_), None) => None,
+                (_, t) => t.or(d.sync_tolerance),
+            };
+            if let Some(t) = sync_tolerance
+                && !(t.is_finite() && t > 0.0)
+            {
+                return Err(err(
+                    f,
+                    format!("coupling.sync_tolerance = {t}: must be positive"),
+                ));
+            }
             Ok(Coupling::TwoWay(TwoWay {
                 sync_interval,
                 tolerance,
                 max_iterations,
+                sync_tolerance,
             }))
         }
         other => Err(err(

@@ -20,9 +20,9 @@ use tecon_elastic::{
     StaticSolver, StressField,
 };
 use tecon_mesh::Mesh;
-use tecon_thermal::{
-    HeatBalance, InterfacePointState, ThermalError, ThermalModel, ThetaScheme, TimeSchedule,
-};
+use tecon_thermal::{ThermalError, ThermalModel, ThetaScheme, TimeSchedule};
+
+pub use crate::coupling_loop::{CouplingStats, TwoWay};
 
 /// Errors of the driver, by phase.
 #[derive(Debug, thiserror::Error)]
@@ -80,9 +80,48 @@ pub struct ThermalSetup<'m> {
     pub model: ThermalModel<'m>,
     /// How the temperatures are obtained.
     pub procedure: Procedure,
-    /// Stress-free temperature of every element (None: each element's
-    /// initial temperature).
-    pub reference_temperature: Option<f64>,
+    /// Stress-free temperature of the elements.
+    pub reference_temperature: Reference,
+}
+
+/// Stress-free (reference) temperature of the elements: the thermal strain
+/// is α (T_e − T_ref,e).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Reference {
+    /// Each element's mean initial temperature.
+    #[default]
+    Initial,
+    /// One value for every element.
+    Uniform(f64),
+    /// One value per element (e.g. a region cooler than the rest: an
+    /// interference fit as an eigenstrain).
+    Elements(Vec<f64>),
+}
+
+impl From<Option<f64>> for Reference {
+    fn from(v: Option<f64>) -> Self {
+        v.map_or(Reference::Initial, Reference::Uniform)
+    }
+}
+
+/// The element reference temperatures of `reference` for a system.
+pub(crate) fn reference_field(
+    reference: &Reference,
+    system: &tecon_thermal::ThermalSystem<'_>,
+) -> Result<Vec<f64>, DriverError> {
+    let n = system.mesh().n_triangles();
+    match reference {
+        Reference::Initial => system
+            .reference_temperature()
+            .ok_or(DriverError::NoInitialTemperature),
+        Reference::Uniform(r) => Ok(vec![*r; n]),
+        Reference::Elements(v) if v.len() == n && v.iter().all(|x| x.is_finite()) => Ok(v.clone()),
+        Reference::Elements(v) => Err(DriverError::Coupling(format!(
+            "reference temperature: {} finite element values needed, got {} values",
+            n,
+            v.len()
+        ))),
+    }
 }
 
 /// Factors on the model's mechanical loads during a stage.
@@ -130,31 +169,6 @@ pub struct Stage {
     pub loads: LoadFactors,
     /// Which temperatures the stage solves with.
     pub temperature: StageTemperature,
-}
-
-/// Staggered two-way coupling: per block of thermal steps, the thermal
-/// step takes every interface point's conductance from the current contact
-/// state, the contact is solved at the new temperatures, and the block is
-/// repeated until the conductances settle.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TwoWay {
-    /// Thermal steps per contact solve (1: every step).
-    pub sync_interval: usize,
-    /// Settled when no interface conductance changes by more than this
-    /// fraction of the largest one.
-    pub tolerance: f64,
-    /// Most coupling iterations per block.
-    pub max_iterations: usize,
-}
-
-impl Default for TwoWay {
-    fn default() -> Self {
-        TwoWay {
-            sync_interval: 1,
-            tolerance: 1e-4,
-            max_iterations: 30,
-        }
-    }
 }
 
 /// How heat conduction and contact are coupled.
@@ -276,27 +290,12 @@ pub struct Outcome {
     pub coupling: Option<CouplingStats>,
 }
 
-/// What the two-way coupling did.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct CouplingStats {
-    /// Blocks of thermal steps (each ending in a contact solve).
-    pub blocks: usize,
-    /// Coupling iterations in all.
-    pub iterations: usize,
-    /// Most iterations of one block.
-    pub max_iterations: usize,
-    /// Blocks that reached the iteration limit without settling.
-    pub unsettled: usize,
-    /// Largest final relative change of the conductances of any block.
-    pub max_final_change: f64,
-}
-
 /// A temperature state before the contact solve.
-struct ThermalState {
-    time: f64,
-    temperature: Vec<f64>,
-    element_temperature: Vec<f64>,
-    heat_balance: Option<f64>,
+pub(crate) struct ThermalState {
+    pub(crate) time: f64,
+    pub(crate) temperature: Vec<f64>,
+    pub(crate) element_temperature: Vec<f64>,
+    pub(crate) heat_balance: Option<f64>,
 }
 
 fn progress(len: u64, show: bool) -> ProgressBar {
@@ -323,7 +322,7 @@ pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     let pb = progress((2 * n_out + setup.stages.len() + 1) as u64, setup.progress);
 
     if let (Coupling::TwoWay(c), Some(th)) = (setup.coupling, &setup.thermal) {
-        return two_way(setup, th, c, &pb);
+        return crate::coupling_loop::two_way(setup, th, c, &pb);
     }
     pb.set_message("heat conduction");
     let clock = std::time::Instant::now();
@@ -351,7 +350,7 @@ pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
 
 /// The stages from `first` on: one contact solve per thermal state (or the
 /// held last state).
-fn run_stages(
+pub(crate) fn run_stages(
     setup: &Setup<'_>,
     contact: &mut Contact<'_>,
     thermal_states: &[ThermalState],
@@ -402,12 +401,7 @@ fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction
         return Ok((Vec::new(), None, info));
     };
     let system = th.model.assemble().map_err(DriverError::ThermalAssembly)?;
-    let reference = match th.reference_temperature {
-        Some(r) => vec![r; setup.mesh.n_triangles()],
-        None => system
-            .reference_temperature()
-            .ok_or(DriverError::NoInitialTemperature)?,
-    };
+    let reference = reference_field(&th.reference_temperature, &system)?;
     let mut states = Vec::new();
     let info = match &th.procedure {
         Procedure::Held => {
@@ -471,15 +465,15 @@ fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction
 }
 
 /// The contact solver with its path-dependent state and statistics.
-struct Contact<'s> {
+pub(crate) struct Contact<'s> {
     setup: &'s Setup<'s>,
-    solver: StaticSolver<'s>,
+    pub(crate) solver: StaticSolver<'s>,
     reference: Option<Vec<f64>>,
     newton: NewtonStats,
 }
 
 impl<'s> Contact<'s> {
-    fn new(setup: &'s Setup<'s>, reference: Option<Vec<f64>>) -> Result<Self, DriverError> {
+    pub(crate) fn new(setup: &'s Setup<'s>, reference: Option<Vec<f64>>) -> Result<Self, DriverError> {
         let solver = StaticSolver::new(&setup.model, setup.solver)
             .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
         Ok(Contact {
@@ -490,7 +484,7 @@ impl<'s> Contact<'s> {
         })
     }
 
-    fn interfaces(&self) -> Vec<String> {
+    pub(crate) fn interfaces(&self) -> Vec<String> {
         self.setup
             .model
             .interfaces()
@@ -499,7 +493,7 @@ impl<'s> Contact<'s> {
             .collect()
     }
 
-    fn stats(&self) -> NewtonStats {
+    pub(crate) fn stats(&self) -> NewtonStats {
         NewtonStats {
             solves: self.solver.solve_stats(),
             ..self.newton
@@ -507,7 +501,7 @@ impl<'s> Contact<'s> {
     }
 
     /// One contact solve from the previous converged state.
-    fn solve(
+    pub(crate) fn solve(
         &mut self,
         stage_index: usize,
         stage: &Stage,
@@ -601,335 +595,4 @@ pub fn solve_mechanical(
         source: Box::new(e),
     })?;
     Ok((s.stresses(), s.displacement().to_vec()))
-}
-
-// ---------------------------------------------------------------------------
-// Two-way coupling
-// ---------------------------------------------------------------------------
-
-/// Conductance states of the coupled interfaces from the contact solver's
-/// current interface points and the nodal temperatures `t`.
-fn interface_states(
-    setup: &Setup<'_>,
-    contact: &Contact<'_>,
-    t: &[f64],
-) -> Vec<Vec<[InterfacePointState; 2]>> {
-    let points = contact.solver.interface_results();
-    setup
-        .coupled_interfaces
-        .iter()
-        .map(|(name, index)| {
-            let elements = setup
-                .mesh
-                .interfaces()
-                .get(name)
-                .map(|i| i.elements.clone())
-                .unwrap_or_default();
-            let mut out = vec![[InterfacePointState::default(); 2]; elements.len()];
-            for p in points.iter().filter(|p| p.interface == *index) {
-                let (Some(el), Some(slot)) = (elements.get(p.element), out.get_mut(p.element))
-                else {
-                    continue;
-                };
-                let k = p.point.min(1);
-                // point k pairs bottom node k with top node 3 − k
-                let temperature = 0.5 * (t[el[k]] + t[el[3 - k]]);
-                slot[k] = InterfacePointState {
-                    gap: p.jump[1],
-                    pressure: (-p.traction[1]).max(0.0),
-                    temperature,
-                };
-            }
-            out
-        })
-        .collect()
-}
-
-/// Conductances of the coupled interfaces in `model` for the states.
-fn conductances(
-    setup: &Setup<'_>,
-    model: &mut ThermalModel<'_>,
-    states: &[Vec<[InterfacePointState; 2]>],
-) -> Result<Vec<f64>, DriverError> {
-    for ((name, _), st) in setup.coupled_interfaces.iter().zip(states) {
-        model
-            .set_interface_state(name, st.clone())
-            .map_err(DriverError::ThermalAssembly)?;
-    }
-    let mut h = Vec::new();
-    for (name, _) in &setup.coupled_interfaces {
-        let v = model
-            .interface_conductance_values(name)
-            .map_err(DriverError::ThermalAssembly)?;
-        h.extend(v.into_iter().flatten());
-    }
-    Ok(h)
-}
-
-fn max_rel_change(a: &[f64], b: &[f64]) -> f64 {
-    let scale = a
-        .iter()
-        .chain(b)
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(f64::MIN_POSITIVE);
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / scale
-}
-
-/// One step of the two-way schedule: Δt, θ, and whether an output time ends it.
-struct Step {
-    dt: f64,
-    theta: f64,
-    output: Option<f64>,
-}
-
-/// The schedule's steps split at the output times (as the one-way transient
-/// does).
-fn split_steps(
-    schedule: &TimeSchedule,
-    scheme: ThetaScheme,
-    times: &[f64],
-) -> Result<Vec<Step>, DriverError> {
-    let (start, end) = (schedule.start(), schedule.end());
-    let slack = 1e-9 * (end - start);
-    for &t in times {
-        if !(t.is_finite() && t >= start - slack && t <= end + slack) {
-            return Err(DriverError::Transient(ThermalError::OutputTimeOutOfRange {
-                time: t,
-                start,
-                end,
-            }));
-        }
-    }
-    let mut steps = Vec::new();
-    let mut now = start;
-    let mut next = 0;
-    while next < times.len() && times[next] <= now + slack {
-        steps.push(Step {
-            dt: 0.0,
-            theta: 1.0,
-            output: Some(times[next]),
-        });
-        next += 1;
-    }
-    for (k, &dt) in schedule.steps().iter().enumerate() {
-        let theta = scheme.theta_at(k);
-        let tol = 1e-9 * dt;
-        let step_end = now + dt;
-        let mut split = false;
-        while next < times.len() && times[next] < step_end - tol {
-            let sub = times[next] - now;
-            if sub > tol {
-                steps.push(Step {
-                    dt: sub,
-                    theta,
-                    output: None,
-                });
-                now += sub;
-                split = true;
-            }
-            if let Some(last) = steps.last_mut() {
-                last.output = Some(times[next]);
-            }
-            next += 1;
-        }
-        let last = if split { step_end - now } else { dt };
-        now += last;
-        steps.push(Step {
-            dt: last,
-            theta,
-            output: None,
-        });
-        while next < times.len() && times[next] <= now + tol {
-            if let Some(s) = steps.last_mut() {
-                s.output = Some(times[next]);
-            }
-            next += 1;
-        }
-    }
-    Ok(steps)
-}
-
-/// Staggered two-way coupling (transient or steady), then the later stages.
-fn two_way(
-    setup: &Setup<'_>,
-    th: &ThermalSetup<'_>,
-    c: TwoWay,
-    pb: &ProgressBar,
-) -> Result<Outcome, DriverError> {
-    let mut model = th.model.clone();
-    let system = model.assemble().map_err(DriverError::ThermalAssembly)?;
-    let reference = match th.reference_temperature {
-        Some(r) => vec![r; setup.mesh.n_triangles()],
-        None => system
-            .reference_temperature()
-            .ok_or(DriverError::NoInitialTemperature)?,
-    };
-    let initial = system
-        .initial_temperature()
-        .ok_or(DriverError::NoInitialTemperature)?
-        .to_vec();
-    drop(system);
-    let mut contact = Contact::new(setup, Some(reference))?;
-    let stage = &setup.stages[0];
-    let mut stats = CouplingStats::default();
-    let mut states: Vec<State> = Vec::new();
-    let (mut thermal_seconds, mut contact_seconds) = (0.0, 0.0);
-    let mut balance = HeatBalance::default();
-    let mut max_res: f64 = 0.0;
-    let mut steps_taken = 0;
-
-    // One block: thermal (from `t0` over `steps`, or steady) with the
-    // conductances of the current contact state, contact solve, repeat.
-    let mut block = |t0: &[f64],
-                     time0: f64,
-                     steps: &[Step],
-                     contact: &mut Contact<'_>,
-                     model: &mut ThermalModel<'_>|
-     -> Result<(ThermalState, HeatBalance, State), DriverError> {
-        let mut guess = t0.to_vec();
-        let mut h_used = conductances(setup, model, &interface_states(setup, contact, &guess))?;
-        let mut iterations = 0;
-        loop {
-            iterations += 1;
-            let clock = std::time::Instant::now();
-            let system = model.assemble().map_err(DriverError::ThermalAssembly)?;
-            let (temperature, time, bal) = if steps.is_empty() {
-                let s = system.solve_steady().map_err(DriverError::Steady)?;
-                (s.temperature, 0.0, s.balance)
-            } else {
-                let mut stepper = system
-                    .stepper(t0.to_vec(), time0)
-                    .map_err(DriverError::Transient)?;
-                for s in steps.iter().filter(|s| s.dt > 0.0) {
-                    stepper
-                        .step(s.dt, s.theta)
-                        .map_err(DriverError::Transient)?;
-                }
-                (
-                    stepper.temperature().to_vec(),
-                    stepper.time(),
-                    stepper.balance(),
-                )
-            };
-            let element_temperature = system.element_means(&temperature);
-            drop(system);
-            thermal_seconds += clock.elapsed().as_secs_f64();
-            let th_state = ThermalState {
-                time: steps.last().and_then(|s| s.output).unwrap_or(time),
-                temperature,
-                element_temperature,
-                heat_balance: Some(bal.relative_residual()),
-            };
-            let clock = std::time::Instant::now();
-            let mut state = contact.solve(0, stage, Some(&th_state), pb)?;
-            contact_seconds += clock.elapsed().as_secs_f64();
-            guess.clone_from(&th_state.temperature);
-            let h_new = conductances(setup, model, &interface_states(setup, contact, &guess))?;
-            let change = max_rel_change(&h_new, &h_used);
-            h_used = h_new;
-            if change <= c.tolerance || iterations >= c.max_iterations {
-                if change > c.tolerance {
-                    stats.unsettled += 1;
-                }
-                stats.blocks += 1;
-                stats.iterations += iterations;
-                stats.max_iterations = stats.max_iterations.max(iterations);
-                stats.max_final_change = stats.max_final_change.max(change);
-                state.coupling_iterations = iterations;
-                return Ok((th_state, bal, state));
-            }
-        }
-    };
-
-    let info = match &th.procedure {
-        Procedure::Held => {
-            return Err(DriverError::Coupling(
-                "two-way coupling needs heat conduction: give thermal boundary conditions (steady) or a schedule (transient)".into(),
-            ));
-        }
-        Procedure::Steady => {
-            let (ts, bal, state) = block(&initial, 0.0, &[], &mut contact, &mut model)?;
-            max_res = bal.relative_residual();
-            let _ = ts;
-            states.push(state);
-            ThermalInfo {
-                mode: ThermalMode::Steady,
-                steps: 0,
-                max_balance_residual: Some(max_res),
-            }
-        }
-        Procedure::Transient {
-            schedule,
-            scheme,
-            times,
-        } => {
-            let all = split_steps(schedule, *scheme, times)?;
-            let mut t = initial.clone();
-            let mut time = schedule.start();
-            let mut first = 0;
-            let mut since_output = Vec::new();
-            while first < all.len() {
-                // a block: up to `sync_interval` steps, ending at an output time
-                let mut last = first;
-                let mut n = 0;
-                while last < all.len() {
-                    if all[last].dt > 0.0 {
-                        n += 1;
-                    }
-                    if all[last].output.is_some() || n >= c.sync_interval {
-                        break;
-                    }
-                    last += 1;
-                }
-                let last = last.min(all.len() - 1);
-                let steps = &all[first..=last];
-                let (ts, bal, state) = block(&t, time, steps, &mut contact, &mut model)?;
-                steps_taken += steps.iter().filter(|s| s.dt > 0.0).count();
-                time += steps.iter().map(|s| s.dt).sum::<f64>();
-                balance.stored_change += bal.stored_change;
-                balance.convection_in += bal.convection_in;
-                balance.flux_in += bal.flux_in;
-                balance.prescribed_in += bal.prescribed_in;
-                balance.scale += bal.scale;
-                since_output.push(state.coupling_iterations);
-                t = ts.temperature.clone();
-                if steps[steps.len() - 1].output.is_some() {
-                    balance.residual = balance.stored_change
-                        - (balance.convection_in + balance.flux_in + balance.prescribed_in);
-                    let res = balance.relative_residual();
-                    max_res = max_res.max(res);
-                    let mut state = state;
-                    state.heat_balance = Some(res);
-                    state.coupling_iterations = since_output.iter().copied().max().unwrap_or(0);
-                    since_output.clear();
-                    states.push(state);
-                    pb.inc(2);
-                }
-                first = last + 1;
-            }
-            ThermalInfo {
-                mode: ThermalMode::Transient,
-                steps: steps_taken,
-                max_balance_residual: Some(max_res),
-            }
-        }
-    };
-    // Later stages (e.g. operating pressure) from the coupled history.
-    let clock = std::time::Instant::now();
-    run_stages(setup, &mut contact, &[], 1, &mut states, pb)?;
-    contact_seconds += clock.elapsed().as_secs_f64();
-    pb.finish_and_clear();
-    Ok(Outcome {
-        interfaces: contact.interfaces(),
-        states,
-        thermal: info,
-        newton: contact.stats(),
-        notes: contact.solver.notes().to_vec(),
-        thermal_seconds,
-        contact_seconds,
-        coupling: Some(stats),
-    })
 }

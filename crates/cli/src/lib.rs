@@ -10,12 +10,15 @@
 //! * [`report_html`]: the self-contained `report.html` of an output folder.
 //! * [`outdir`]: output folders a run owns (writable check, manifest, stale files).
 //! * [`yield_check`]: von Mises against the yield stress, per region.
+//! * [`driver`]: the one analysis driver; [`coupling_loop`]: its staggered
+//!   two-way thermoelastic coupling.
 //! * [`cmdline`]: argument checks before computing; quiet end on a closed pipe.
 
 pub mod builtin;
 pub mod case;
 pub mod cmdline;
 pub mod conductance;
+pub mod coupling_loop;
 pub mod driver;
 pub mod duplex;
 pub mod figures;

@@ -662,7 +662,7 @@ fn thermal_setup<'m>(
     Ok(Some(ThermalSetup {
         model,
         procedure,
-        reference_temperature: reference,
+        reference_temperature: reference.into(),
     }))
 }
 

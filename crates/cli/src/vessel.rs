@@ -889,9 +889,14 @@ pub struct VesselArgs {
     /// (staggered per thermal step).
     #[arg(long, default_value = "one-way")]
     pub coupling: String,
-    /// Two-way: thermal steps per contact solve.
-    #[arg(long, default_value_t = 1)]
-    pub sync_interval: usize,
+    /// Two-way: thermal steps per contact solve (fixed blocks; default:
+    /// adaptive blocks, see --sync-tolerance).
+    #[arg(long)]
+    pub sync_interval: Option<usize>,
+    /// Two-way, adaptive blocks: the largest relative conductance error
+    /// accepted in a block (default 0.01).
+    #[arg(long)]
+    pub sync_tolerance: Option<f64>,
     /// Output times, s (comma-separated; the last ends the cooling).
     #[arg(long, value_delimiter = ',', default_value = "1,10,60,600,3600,72000")]
     pub times: Vec<f64>,
@@ -944,11 +949,7 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
         },
         two_way: match args.coupling.as_str() {
             "one-way" => None,
-            "two-way" if args.sync_interval >= 1 => Some(crate::driver::TwoWay {
-                sync_interval: args.sync_interval,
-                ..Default::default()
-            }),
-            "two-way" => return Err("--sync-interval: at least 1".into()),
+            "two-way" => Some(two_way_options(args)?),
             other => {
                 return Err(format!("--coupling {other}: expected 'one-way' or 'two-way'").into());
             }
@@ -1051,10 +1052,35 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
     Ok(())
 }
 
+/// `--sync-interval` / `--sync-tolerance`: fixed blocks when only the
+/// interval is given, else adaptive blocks.
+fn two_way_options(args: &VesselArgs) -> CliResult<crate::driver::TwoWay> {
+    let d = crate::driver::TwoWay::default();
+    if args.sync_interval == Some(0) {
+        return Err("--sync-interval: at least 1".into());
+    }
+    if let Some(t) = args.sync_tolerance
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(format!("--sync-tolerance {t}: must be positive").into());
+    }
+    Ok(crate::driver::TwoWay {
+        sync_interval: args.sync_interval.unwrap_or(d.sync_interval),
+        sync_tolerance: match (args.sync_interval, args.sync_tolerance) {
+            (Some(_), None) => None,
+            (_, t) => t.or(d.sync_tolerance),
+        },
+        ..d
+    })
+}
+
 /// The coupling statistics as JSON.
 pub fn coupling_json(c: &crate::driver::CouplingStats) -> Value {
     json!({
         "mode": "two-way",
+        "sync": if c.sync_tolerance.is_some() { "adaptive" } else { "fixed" },
+        "sync_tolerance": c.sync_tolerance,
+        "rejected_blocks": c.rejected,
         "blocks": c.blocks,
         "iterations": c.iterations,
         "max_iterations_per_block": c.max_iterations,
