@@ -9,7 +9,7 @@
 //! cargo run --release -p tecon --example duplex_study
 //! ```
 
-use tecon_cli::duplex::{DuplexTube, FeDuplex, SteepLaw, Start};
+use tecon_cli::duplex::{DuplexTube, FeDuplex, Start, SteepLaw};
 
 fn main() -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
     let tube = DuplexTube {
@@ -114,6 +114,9 @@ fn main() -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
         println!("  ({:.2} s)", t.elapsed().as_secs_f64());
     }
     let s = fe.steady_two_way()?;
-    println!("two-way steady from the unloaded joint: {:.5} MPa", s.pressure / 1e6);
+    println!(
+        "two-way steady from the unloaded joint: {:.5} MPa",
+        s.pressure / 1e6
+    );
     Ok(())
 }

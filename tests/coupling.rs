@@ -213,7 +213,10 @@ fn vessel_two_way_cools_the_core_under_the_weld() {
 /// Largest nodal temperature difference (K) and largest interface pressure
 /// difference relative to the largest pressure, over the common output
 /// times of two vessel runs.
-fn run_difference(a: &tecon_cli::vessel::VesselRun, b: &tecon_cli::vessel::VesselRun) -> (f64, f64) {
+fn run_difference(
+    a: &tecon_cli::vessel::VesselRun,
+    b: &tecon_cli::vessel::VesselRun,
+) -> (f64, f64) {
     let (mut dt, mut dp, mut pmax) = (0.0f64, 0.0f64, 0.0f64);
     assert_eq!(a.results.len(), b.results.len());
     for (x, y) in a.results.iter().zip(&b.results) {
@@ -322,7 +325,7 @@ fn coupling_iterates_do_not_drift() {
 ///   on the FE states (within the discretisation error).
 #[test]
 fn fe_duplex_has_the_one_dimensional_steady_states_and_two_attractors() {
-    use tecon_cli::duplex::{FeDuplex, SteepLaw, Start};
+    use tecon_cli::duplex::{FeDuplex, Start, SteepLaw};
     let tube = tube(20.0, 60.0, 40e-6);
     let law = SteepLaw {
         h_base: 100.0,

@@ -42,8 +42,8 @@ use indicatif::ProgressBar;
 use tecon_thermal::{HeatBalance, InterfacePointState, ThermalError, ThermalModel, ThetaScheme};
 
 use crate::driver::{
-    Contact, DriverError, Outcome, Procedure, Setup, State, ThermalInfo, ThermalMode,
-    ThermalSetup, ThermalState, reference_field, run_stages,
+    Contact, DriverError, Outcome, Procedure, Setup, State, ThermalInfo, ThermalMode, ThermalSetup,
+    ThermalState, reference_field, run_stages,
 };
 
 /// Staggered two-way coupling settings.
@@ -312,7 +312,10 @@ impl Loop<'_, '_> {
     ) -> Result<Attempt, DriverError> {
         let clock = std::time::Instant::now();
         conductances(self.setup, &mut self.model, used)?;
-        let system = self.model.assemble().map_err(DriverError::ThermalAssembly)?;
+        let system = self
+            .model
+            .assemble()
+            .map_err(DriverError::ThermalAssembly)?;
         let Block { t0, time0, steps } = b;
         let (temperature, time, balance) = if steps.is_empty() {
             let s = system.solve_steady().map_err(DriverError::Steady)?;
@@ -447,8 +450,7 @@ pub(crate) fn two_way<'s>(
                 time0: 0.0,
                 steps: &[],
             };
-            let (a, iterations, change) =
-                lp.iterate(block, s0.clone(), &s0, false, c)?;
+            let (a, iterations, change) = lp.iterate(block, s0.clone(), &s0, false, c)?;
             lp.finish_block(iterations, change);
             max_res = a.balance.relative_residual();
             let mut state = a.state;
@@ -548,8 +550,7 @@ pub(crate) fn two_way<'s>(
                                 .solver
                                 .resume(&checkpoint)
                                 .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
-                            let (a, it, change) =
-                                lp.iterate(block, mid, &s_now, true, c)?;
+                            let (a, it, change) = lp.iterate(block, mid, &s_now, true, c)?;
                             target = Some(span * grow.max(0.2));
                             (a, it + 1, change.max(0.0))
                         } else {

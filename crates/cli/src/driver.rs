@@ -473,7 +473,10 @@ pub(crate) struct Contact<'s> {
 }
 
 impl<'s> Contact<'s> {
-    pub(crate) fn new(setup: &'s Setup<'s>, reference: Option<Vec<f64>>) -> Result<Self, DriverError> {
+    pub(crate) fn new(
+        setup: &'s Setup<'s>,
+        reference: Option<Vec<f64>>,
+    ) -> Result<Self, DriverError> {
         let solver = StaticSolver::new(&setup.model, setup.solver)
             .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
         Ok(Contact {

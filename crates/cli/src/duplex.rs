@@ -433,7 +433,12 @@ impl FeDuplex {
 
     /// Steady nodal temperatures with boundary temperatures `t_inner`,
     /// `t_outer` and a constant conductance `h` (a starting state).
-    pub fn steady_field(&self, t_inner: f64, t_outer: f64, h: f64) -> crate::writers::CliResult<Vec<f64>> {
+    pub fn steady_field(
+        &self,
+        t_inner: f64,
+        t_outer: f64,
+        h: f64,
+    ) -> crate::writers::CliResult<Vec<f64>> {
         let other = FeDuplex {
             tube: DuplexTube {
                 t_inner,
@@ -486,8 +491,8 @@ impl FeDuplex {
                 }
                 let p = b;
                 let dp = 1e-3 * p;
-                let slope =
-                    (self.pressure_at(law.h(p + dp))? - self.pressure_at(law.h(p - dp))?) / (2.0 * dp);
+                let slope = (self.pressure_at(law.h(p + dp))? - self.pressure_at(law.h(p - dp))?)
+                    / (2.0 * dp);
                 out.push(FeSteadyState {
                     pressure: p,
                     conductance: law.h(p),
