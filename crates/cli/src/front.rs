@@ -279,6 +279,12 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
 /// analysis, outputs, readable figures, yield check, report. Returns the
 /// warnings for `report.html`.
 pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<String>> {
+    if let Some(n) = args.layers {
+        if yield_stress.is_some() {
+            return Err("--yield is not available with --layers yet".into());
+        }
+        return crate::multilayer::run(&args, n);
+    }
     let base = vessel::options(&args)?;
     if let Some(s) = args.study.as_deref() {
         if s != "mesh" {

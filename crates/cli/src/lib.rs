@@ -2,6 +2,7 @@
 //! end-to-end tests of the workspace call them directly).
 //!
 //! * [`vessel`]: the welded-vessel case end to end.
+//! * [`multilayer`]: `tecon vessel --layers N`, the staged multilayer vessel.
 //! * [`mesh_cmd`]: mesh generation / import and VTK output.
 //! * [`torsion`]: wavelet-BEM torsion of a section.
 //! * [`plot`]: SVG/PNG figures (panels, log axes, clipped lines) shared by the commands.
@@ -24,6 +25,7 @@ pub mod duplex;
 pub mod figures;
 pub mod front;
 pub mod mesh_cmd;
+pub mod multilayer;
 pub mod outdir;
 pub mod plot;
 pub mod report_html;

@@ -903,6 +903,17 @@ pub struct VesselArgs {
     /// `--study mesh`: the case on meshes paper, 1, 2, 3, 4 with a convergence table.
     #[arg(long)]
     pub study: Option<String>,
+    /// Multilayer vessel: the core and N layers wrapped and welded one
+    /// after another (staged analysis, see `multilayer`).
+    #[arg(long)]
+    pub layers: Option<usize>,
+    /// Multilayer: thickness of every layer, m.
+    #[arg(long, default_value_t = 6.4e-3)]
+    pub layer_thickness: f64,
+    /// Multilayer: seam angle of each layer, degrees, 0 or 180 for now
+    /// (comma-separated; default alternating 0, 180, 0, …).
+    #[arg(long, value_delimiter = ',')]
+    pub seams: Option<Vec<f64>>,
     /// Output folder.
     #[arg(long, default_value = "tecon-out/vessel")]
     pub out: PathBuf,

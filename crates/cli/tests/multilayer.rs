@@ -1,0 +1,161 @@
+//! `tecon vessel --layers N`: the staged multilayer vessel end to end.
+//!
+//! Reference: the sequential shrink fit (`SequentialShrinkFit`, plane
+//! strain, interference (1 + ν) α ΔT w / 2π per weld) and, for one layer,
+//! the monolayer pipeline (the one driver) on the same mesh.
+//!
+//! Goal: every ring's mean hoop stress after every stage within 1 % of the
+//! model after the whole cooling transient of every weld (2 layers, seams
+//! 0° and 180°: half section); one layer staged = the driver's monolayer run
+//! to 1e-10; bad layer input refused by name.
+
+use tecon_cli::builtin::schedule;
+use tecon_cli::driver::{
+    self, Coupling, LoadFactors, Procedure, Setup, Stage, StageTemperature, ThermalSetup,
+};
+use tecon_cli::multilayer::{MultilayerOptions, analyse, interface_name, stage_thermal_model};
+use tecon_contact::{GhaboussiNormal, PaperJoint};
+use tecon_elastic::{Analysis, ElasticModel, Joint, Material, SolverOptions};
+use tecon_mesh::multilayer_vessel_mesh;
+use tecon_thermal::ThetaScheme;
+
+#[test]
+fn two_layers_match_the_sequential_fit_after_each_cooling() {
+    let mut o = MultilayerOptions::new(2, 6.4e-3, None).unwrap();
+    o.quiet = true;
+    assert!(o.geometry.is_symmetric());
+    let run = analyse(&o).unwrap();
+    let mut worst: f64 = 0.0;
+    for st in &run.stages {
+        let k = st.layers;
+        for r in 0..=k {
+            let an = run.fit.mean_hoop(k, r);
+            let err = ((st.ring_means[r] - an) / an).abs();
+            eprintln!(
+                "stage {k} ring {r}: FE {:.5} MPa, fit {:.5} MPa, {err:.2e}",
+                st.ring_means[r] / 1e6,
+                an / 1e6
+            );
+            worst = worst.max(err);
+        }
+        // the rings not wrapped yet carry nothing
+        for r in k + 1..=2 {
+            assert_eq!(st.ring_means[r], 0.0);
+        }
+        // every weld's transient cooled to within a few K of ambient
+        assert!(st.heat_balance < 1e-6, "{}", st.heat_balance);
+    }
+    eprintln!("2 layers, after each stage's cooling: worst {worst:.3e}");
+    assert!(worst < 0.01, "{worst}");
+}
+
+#[test]
+fn one_layer_staged_reproduces_the_monolayer_driver() {
+    let mut o = MultilayerOptions::new(1, 6.4e-3, None).unwrap();
+    o.quiet = true;
+    let staged = analyse(&o).unwrap();
+    // the same case through the monolayer pipeline, built without any
+    // staging call
+    let mesh = multilayer_vessel_mesh(&o.geometry, &o.spec).unwrap();
+    let d = o.data;
+    let h = o.geometry.layers[0].thickness / o.spec.layer_rows as f64;
+    let k_n = tecon_contact::DEFAULT_PENALTY_FACTOR * d.youngs_modulus / h;
+    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
+        .material_everywhere(Material {
+            youngs_modulus: d.youngs_modulus,
+            poisson_ratio: d.poisson_ratio,
+            expansion: d.expansion,
+        })
+        .unwrap()
+        .symmetry("sym0")
+        .unwrap()
+        .symmetry("sym180")
+        .unwrap()
+        .remove_free_translations(true)
+        .interface(
+            &interface_name(1),
+            Joint::Frictional(
+                PaperJoint::new(
+                    GhaboussiNormal::penalty(k_n).unwrap(),
+                    k_n,
+                    0.0,
+                    0.3f64.atan(),
+                )
+                .unwrap(),
+            ),
+        )
+        .unwrap();
+    let setup = Setup {
+        mesh: &mesh,
+        thermal: Some(ThermalSetup {
+            model: stage_thermal_model(&o, &mesh, 1, &[]).unwrap(),
+            procedure: Procedure::Transient {
+                schedule: schedule(72000.0).unwrap(),
+                scheme: ThetaScheme::crank_nicolson(),
+                times: o.times.clone(),
+            },
+            reference_temperature: None,
+        }),
+        model,
+        solver: SolverOptions {
+            augmented_lagrangian: Some(1e-4),
+            max_iterations: 150,
+            ..SolverOptions::default()
+        },
+        stages: vec![Stage {
+            name: "cooling".into(),
+            loads: LoadFactors::FULL,
+            temperature: StageTemperature::FollowThermal,
+        }],
+        progress: false,
+        verbose: false,
+        coupling: Coupling::OneWay,
+        coupled_interfaces: Vec::new(),
+    };
+    let mono = driver::run(&setup).unwrap();
+    let a = mono.states.last().unwrap();
+    let b = &staged.stages[0].state;
+    assert_eq!(a.time, b.time);
+    let scale_u = a.displacement.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let du = a
+        .displacement
+        .iter()
+        .zip(&b.displacement)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let scale_s = a
+        .stress
+        .element
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let ds = a
+        .stress
+        .element
+        .iter()
+        .flatten()
+        .zip(b.stress.element.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    eprintln!(
+        "one layer: staged vs monolayer driver, displacements {:.2e}, stresses {:.2e} (relative)",
+        du / scale_u,
+        ds / scale_s
+    );
+    assert!(du <= 1e-10 * scale_u, "{du:e} of {scale_u:e}");
+    assert!(ds <= 1e-10 * scale_s, "{ds:e} of {scale_s:e}");
+}
+
+#[test]
+fn bad_layer_input_is_named() {
+    for (n, t, seams, what) in [
+        (0, 6.4e-3, None, "--layers"),
+        (2, 0.0, None, "thickness"),
+        (2, 6.4e-3, Some(vec![0.0]), "--seams"),
+        (2, 6.4e-3, Some(vec![0.0, 400.0]), "400"),
+        (3, 6.4e-3, Some(vec![0.0, 120.0, 240.0]), "full section"),
+    ] {
+        let e = MultilayerOptions::new(n, t, seams.as_deref())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(what), "{e}");
+    }
+}
