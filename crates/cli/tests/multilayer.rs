@@ -94,7 +94,7 @@ fn one_layer_staged_reproduces_the_monolayer_driver() {
                 scheme: ThetaScheme::crank_nicolson(),
                 times: o.times.clone(),
             },
-            reference_temperature: None,
+            reference_temperature: tecon_cli::driver::Reference::Initial,
         }),
         model,
         solver: SolverOptions {
