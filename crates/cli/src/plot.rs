@@ -495,8 +495,16 @@ impl Panel {
                         .draw_series(DashedLineSeries::new(piece, 7, 4, style))
                         .map_err(|e| err(path, e))?
                 } else {
+                    // one path per segment: plotters' bitmap backend joins a
+                    // thick polyline with mitres, and a sharp reversal (a
+                    // contact-pressure spike) then shoots a spike across the
+                    // picture, out of the frame (plotters issue #549)
                     chart
-                        .draw_series(LineSeries::new(piece, style))
+                        .draw_series(
+                            piece
+                                .windows(2)
+                                .map(|w| PathElement::new(vec![w[0], w[1]], style)),
+                        )
                         .map_err(|e| err(path, e))?
                 };
                 if first {
@@ -620,6 +628,17 @@ impl Figure {
             Path::new("<svg>"),
         )?;
         Ok(s)
+    }
+
+    /// The figure as RGB pixels (row by row, 3 bytes each), as the PNG holds them.
+    pub fn to_rgb(&self) -> Result<Vec<u8>, PlotError> {
+        register_bundled_font();
+        let mut buf = vec![0u8; 3 * self.size.0 as usize * self.size.1 as usize];
+        self.draw(
+            BitMapBackend::with_buffer(&mut buf, self.size).into_drawing_area(),
+            Path::new("<png>"),
+        )?;
+        Ok(buf)
     }
 
     /// Writes `<stem>.svg` and `<stem>.png` and returns their paths.
@@ -803,5 +822,40 @@ impl ColouredPath {
             size,
         )?;
         Ok((svg, png))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! Goal: what is drawn stays inside its frame, in the PNG as in the SVG.
+    use super::*;
+
+    #[test]
+    fn a_sharp_spike_stays_inside_the_frame_in_the_png() {
+        // the vessel's contact pressure near the weld: 0, a spike, 0 again,
+        // on a 0–180° axis (nearly vertical segments that reverse sharply)
+        let mut pts = vec![(0.0, 0.0), (0.5, 0.0), (0.6, 0.365), (0.7, 0.0)];
+        pts.extend((0..=60).map(|k| (2.0 + 3.0 * k as f64, 0.05 - 0.0002 * k as f64)));
+        let fig = Figure::single(Panel {
+            title: "spike".into(),
+            x: Axis::linear("θ"),
+            y: Axis::linear("p"),
+            lines: vec![Line::solid("FE", 0, pts).with_markers()],
+            legend: LegendAt::None,
+            ..Default::default()
+        });
+        let (w, h) = fig.size;
+        let rgb = fig.to_rgb().unwrap();
+        let c = PALETTE[0];
+        // below the x axis (frame bottom at h − 10 − 48 px) only labels are drawn
+        let frame_bottom = h as usize - 10 - 48;
+        let stray = (frame_bottom + 3..h as usize)
+            .flat_map(|y| (0..w as usize).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let i = 3 * (y * w as usize + x);
+                rgb[i] == c.0 && rgb[i + 1] == c.1 && rgb[i + 2] == c.2
+            })
+            .count();
+        assert_eq!(stray, 0, "line pixels below the frame");
     }
 }
