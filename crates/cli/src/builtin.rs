@@ -199,6 +199,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             youngs_modulus: d.youngs_modulus,
             poisson_ratio: d.poisson_ratio,
             expansion: Some(d.expansion),
+            yield_stress: None,
         })
         .collect();
     let h = o.geometry.layer_thickness / o.mesh.layer_rows as f64;

@@ -10,7 +10,7 @@
 //! (`summary.json`, VTK series, nodal and interface CSV, probes).
 //!
 //! ```text
-//! tecon run examples/cases/shrink_fit.toml            # results in tecon-out/shrink_fit/
+//! tecon run examples/cases/shrink_fit.toml            # results in tecon-out/run/shrink_fit/
 //! tecon run my_case.toml --out results/my_case --quiet
 //! ```
 //!
@@ -148,6 +148,10 @@ pub struct MaterialSection {
     pub poisson_ratio: f64,
     /// Thermal expansion α, 1/K (needed when temperatures change).
     pub expansion: Option<f64>,
+    /// Yield stress σ_y, Pa (key `yield`, optional): the report names the
+    /// regions where the von Mises stress exceeds it (the analysis stays elastic).
+    #[serde(rename = "yield")]
+    pub yield_stress: Option<f64>,
 }
 
 /// `[[interface]]`: a pair of faces joined thermally and mechanically.
@@ -359,7 +363,7 @@ pub struct OutputSection {
     /// Nodal CSV per time (default false).
     #[serde(default)]
     pub csv_nodal: bool,
-    /// Probe points `[x, y]`, m (nearest node).
+    /// Probe points `[x, y]`, m (nearest node; a point outside the mesh is an error).
     #[serde(default)]
     pub probes: Vec<[f64; 2]>,
 }
@@ -432,15 +436,25 @@ pub struct CaseResult {
     pub thermal: ThermalInfo,
     /// Wall-clock seconds: heat conduction, contact.
     pub seconds: (f64, f64),
-    /// The summary (also written as `summary.json`).
+    /// The summary (also written as `summary.json`; wall times go to `timing.json`).
     pub summary: Value,
+    /// The printed yield check of the last output time.
+    pub yield_lines: Vec<String>,
 }
 
 /// Runs the case (no files written): mesh and setup, then the driver.
 pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     let start = std::time::Instant::now();
     let f = &case.source;
+    crate::yield_check::check_case_keys(case).map_err(|e| err(f, e))?;
+    // memory: a generator's size is known before it runs, a file's after reading
+    if let Some((triangles, order)) = crate::memory::case_triangles(case) {
+        crate::memory::check("[mesh]", triangles, order).map_err(|e| err(f, e))?;
+    }
     let mut mesh = setup::build_mesh(case, base_dir)?;
+    crate::memory::check("[mesh]", mesh.n_triangles(), mesh.order()).map_err(|e| err(f, e))?;
+    crate::probes::check_inside(&mesh, &case.output.probes, "output.probes")
+        .map_err(|e| err(f, e))?;
     setup::declare_interfaces(case, &mut mesh)?;
     let (outcome, joints, al, analysis, probes) = {
         let p = setup::prepare(case, &mesh)?;
@@ -509,6 +523,18 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     } else {
         summary["coupling"] = json!({ "mode": "one-way" });
     }
+    // the yield check at every output time (elastic: a warning where σ_vM > σ_y)
+    let (checks, warnings, yield_lines) =
+        crate::yield_check::check_states(&mesh, &outcome.states, &|r| {
+            case.material
+                .iter()
+                .find(|m| m.region == r)
+                .and_then(|m| m.yield_stress)
+        });
+    summary["yield_check"] = checks;
+    if !warnings.is_empty() {
+        summary["warnings"] = json!(warnings);
+    }
     summary["seconds"] = json!(start.elapsed().as_secs_f64());
     Ok(CaseResult {
         mesh,
@@ -519,6 +545,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         thermal: outcome.thermal,
         seconds: (outcome.thermal_seconds, outcome.contact_seconds),
         summary,
+        yield_lines,
     })
 }
 
@@ -557,9 +584,19 @@ pub fn write_outputs(case: &Case, res: &CaseResult, out: &Path) -> CliResult<()>
             &res.probes,
             &res.states,
         )?);
+        // wall times apart, so that summary.json is bitwise the same for any thread count
+        let mut summary = res.summary.clone();
+        let mut timing = crate::front::split_timing(&mut summary);
+        timing["seconds_heat_conduction"] = json!(res.seconds.0);
+        timing["seconds_contact"] = json!(res.seconds.1);
+        writers::write(
+            &dir.join("timing.json"),
+            &(serde_json::to_string_pretty(&timing)? + "\n"),
+        )?;
+        files.push("timing.json".into());
         writers::write(
             &dir.join("summary.json"),
-            &serde_json::to_string_pretty(&res.summary)?,
+            &serde_json::to_string_pretty(&summary)?,
         )?;
         files.push("summary.json".into());
         Ok(files)
@@ -576,7 +613,7 @@ pub struct RunArgs {
     /// The case file (TOML; format in the README, "Case files").
     #[arg(value_name = "CASE")]
     pub case: PathBuf,
-    /// Output folder (default `tecon-out/<case file stem>`).
+    /// Output folder (default `tecon-out/run/<case file stem>`).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Print nothing but errors.
@@ -615,28 +652,41 @@ pub fn report(res: &CaseResult) -> String {
             s += &format!("note: {}\n", n.as_str().unwrap_or_default());
         }
     }
+    for l in &res.yield_lines {
+        s += l;
+        s.push('\n');
+    }
+    if let Some(w) = v["warnings"].as_array() {
+        for w in w {
+            s += &format!("warning: {}\n", w.as_str().unwrap_or_default());
+        }
+    }
     s
+}
+
+/// The default output folder of `tecon run CASE.toml`:
+/// `tecon-out/run/<case file stem>` (apart from the folders of `tecon vessel`
+/// and `tecon mesh`, so `tecon run examples/cases/vessel.toml` does not
+/// replace the results of `tecon vessel`).
+pub fn default_out(case_file: &Path) -> PathBuf {
+    let stem = case_file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "case".into());
+    Path::new("tecon-out").join("run").join(stem)
 }
 
 /// Runs `tecon run`.
 pub fn run(args: RunArgs) -> CliResult<()> {
-    let case = load(&args.case)?;
+    let mut case = load(&args.case)?;
+    // a progress bar on stderr (indicatif draws nothing when it is not a terminal)
+    case.progress = !args.quiet;
     let base = args
         .case
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_default();
-    let out = match &args.out {
-        Some(o) => o.clone(),
-        None => {
-            let stem = args
-                .case
-                .file_stem()
-                .map(|s| s.to_string_lossy().to_string())
-                .unwrap_or_else(|| "case".into());
-            Path::new("tecon-out").join(stem)
-        }
-    };
+    let out = args.out.clone().unwrap_or_else(|| default_out(&args.case));
     // one line per error, whatever the solver's message holds
     let one_line =
         |e: Box<dyn std::error::Error + Send + Sync>| -> Box<dyn std::error::Error + Send + Sync> {
@@ -644,8 +694,11 @@ pub fn run(args: RunArgs) -> CliResult<()> {
         };
     let res = execute(&case, &base).map_err(one_line)?;
     write_outputs(&case, &res, &out).map_err(one_line)?;
+    let text = report(&res);
+    let txt = out.join(crate::report_html::REPORT_TEXT);
+    std::fs::write(&txt, &text).map_err(|e| format!("{}: {e}", txt.display()))?;
     if !args.quiet {
-        print!("{}", report(&res));
+        print!("{text}");
         println!("results in {}", out.display());
     }
     Ok(())

@@ -427,6 +427,35 @@ pub fn interface_pressure(rows: &[InterfaceRow], analytical: Option<(&str, f64)>
         title: "Core/layer interface after cooling: contact pressure".into(),
         panels: vec![
             panel("weld zone", (0.0, WELD_ZONE_DEG), LegendAt::None),
+            panel("half circumference", (0.0, 180.0), LegendAt::UpperRight),
+        ],
+        size: (1300, 600),
+    }
+}
+
+/// Fig. 10: tangential displacement u_θ (µm) of the outer surface after
+/// cooling, sorted by θ, against the free shrinkage of the half weld
+/// (−κ α ΔT w/2, µm); weld zone beside the half circumference.
+pub fn fig10(u_theta: &[(f64, f64)], free_shrinkage: f64) -> Figure {
+    let panel = |title: &str, range: (f64, f64), legend: LegendAt| Panel {
+        title: title.into(),
+        x: Axis::linear("θ from the weld centre [°]").range(range.0, range.1),
+        y: Axis::linear("u_θ [µm]"),
+        lines: vec![
+            Line::solid("FE, outer surface", 0, u_theta.to_vec()),
+            Line::dashed(
+                "free shrinkage of the half weld, −κ α ΔT w/2",
+                1,
+                vec![(range.0, free_shrinkage), (range.1, free_shrinkage)],
+            ),
+        ],
+        legend,
+        ..Default::default()
+    };
+    Figure {
+        title: "Tangential displacement of the outer surface after cooling".into(),
+        panels: vec![
+            panel("weld zone", (0.0, WELD_ZONE_DEG), LegendAt::None),
             panel("half circumference", (0.0, 180.0), LegendAt::LowerRight),
         ],
         size: (1300, 600),

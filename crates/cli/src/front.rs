@@ -139,7 +139,8 @@ fn temp_at(r: &crate::driver::State, i: usize) -> f64 {
     r.temperature.as_ref().map_or(f64::NAN, |t| t[i])
 }
 
-/// Writes the readable figures over the driver's first drafts (same names).
+/// Writes the vessel's figures (SVG and PNG, each once) and `interface_final.csv`
+/// (one row per interface point, sorted by θ) into `dir`.
 pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
     let Some(last) = run.results.last() else {
         return Ok(());
@@ -260,6 +261,28 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
     )
     .write_svg_png(&dir.join("fig9_hoop_circumference"))?;
 
+    // fig10: tangential displacement of the outer surface
+    let u = &last.displacement;
+    let ut = |i: usize| {
+        let t = m.nodes()[i][1].atan2(m.nodes()[i][0]);
+        -u[2 * i] * t.sin() + u[2 * i + 1] * t.cos()
+    };
+    let kappa = if o.analysis == tecon_elastic::Analysis::PlaneStrain {
+        1.0 + o.data.poisson_ratio
+    } else {
+        1.0
+    };
+    let shrink =
+        kappa * o.data.expansion * (o.data.weld_temperature - o.data.ambient) * g.weld_half_width;
+    figures::fig10(
+        &l_out
+            .iter()
+            .map(|&i| (deg(i), ut(i) * 1e6))
+            .collect::<Vec<_>>(),
+        -shrink * 1e6,
+    )
+    .write_svg_png(&dir.join("fig10_tangential_displacement"))?;
+
     // interface: one row per point, sorted by θ
     let rows = figures::interface_rows(&last.interface, [0.0, 0.0]);
     write(
@@ -294,6 +317,9 @@ pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<Stri
         return Ok(Vec::new());
     }
     let out = &args.out;
+    let what = format!("--mesh {}", args.mesh);
+    crate::memory::check_generation(&base.mesh).map_err(|e| format!("{what}: {e}"))?;
+    crate::memory::check(&what, base.mesh.n_triangles(), base.mesh.order)?;
     let run = vessel::analyse(&base)?;
     let mut v = vessel::summary(&run);
     let timing = split_timing(&mut v);
@@ -312,7 +338,6 @@ pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<Stri
         v["warnings"] = json!(warnings);
     }
     vessel::write_outputs(&run, &v, out)?;
-    write_figures(&run, out)?;
     write(
         &out.join("timing.json"),
         &(serde_json::to_string_pretty(&timing)? + "\n"),

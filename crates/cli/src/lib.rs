@@ -13,6 +13,8 @@
 //! * [`yield_check`]: von Mises against the yield stress, per region.
 //! * [`driver`]: the one analysis driver; [`coupling_loop`]: its staggered
 //!   two-way thermoelastic coupling.
+//! * [`memory`]: memory estimates checked before large meshes are built.
+//! * [`probes`]: probe points checked against the mesh.
 //! * [`cmdline`]: argument checks before computing; quiet end on a closed pipe.
 
 pub mod builtin;
@@ -24,10 +26,12 @@ pub mod driver;
 pub mod duplex;
 pub mod figures;
 pub mod front;
+pub mod memory;
 pub mod mesh_cmd;
 pub mod multilayer;
 pub mod outdir;
 pub mod plot;
+pub mod probes;
 pub mod report_html;
 pub mod setup;
 pub mod torsion;

@@ -12,7 +12,7 @@
 //! A closed pipe on stdout (`tecon mesh --preset 3 | head -1`) ends the
 //! program quietly.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use clap::{Parser, Subcommand};
 use tecon_cli::outdir::OutDir;
@@ -179,15 +179,11 @@ fn run(cli: Cli) -> Result<(), BoxErr> {
             None => torsion::run(c.args),
         },
         Command::Run(c) => {
-            let out = c.args.out.clone().unwrap_or_else(|| {
-                let stem = c
-                    .args
-                    .case
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "case".into());
-                PathBuf::from("tecon-out").join(stem)
-            });
+            let out = c
+                .args
+                .out
+                .clone()
+                .unwrap_or_else(|| case::default_out(&c.args.case));
             let source = std::fs::read_to_string(&c.args.case)
                 .ok()
                 .map(|t| (c.args.case.display().to_string(), t));

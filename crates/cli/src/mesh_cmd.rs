@@ -59,6 +59,8 @@ pub fn run(args: MeshArgs) -> Result<(), Box<dyn std::error::Error + Send + Sync
                 fused_weld: args.fused_weld,
                 ..parse_preset(&args.preset)?
             };
+            crate::memory::check_generation(&spec)
+                .map_err(|e| format!("--preset '{}': {e}", args.preset))?;
             vessel_mesh(&VesselGeometry::default(), &spec)?
         }
     };

@@ -200,6 +200,37 @@ th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}\
 figure{margin:1.5em 0;border:1px solid #ddd;padding:.5em;border-radius:4px}figure svg{max-width:100%;height:auto;display:block}\
 figcaption{font-weight:600;margin-top:.3em}.muted{color:#666}";
 
+/// The place of a figure in the page: the paper's figures by number
+/// (fig6 before fig10), then the interface, the mesh study, the probes,
+/// torsion's plots and anything else; numbers inside names compare as numbers.
+pub fn reading_order(name: &str) -> (usize, Vec<(String, u64)>) {
+    const GROUPS: [&str; 5] = ["fig", "interface", "study", "probes", "boundary"];
+    let group = GROUPS
+        .iter()
+        .position(|g| name.starts_with(g))
+        .unwrap_or(GROUPS.len());
+    // alternating text and number pieces
+    let mut key = Vec::new();
+    let mut text = String::new();
+    let mut digits = String::new();
+    for ch in name.chars() {
+        if ch.is_ascii_digit() {
+            digits.push(ch);
+        } else {
+            if !digits.is_empty() {
+                key.push((
+                    std::mem::take(&mut text),
+                    digits.parse().unwrap_or(u64::MAX),
+                ));
+                digits.clear();
+            }
+            text.push(ch);
+        }
+    }
+    key.push((text, digits.parse().unwrap_or(0)));
+    (group, key)
+}
+
 /// Builds the page for the output folder `dir`.
 pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)?
@@ -273,8 +304,9 @@ pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
         );
     }
 
-    // Figures.
-    let svgs: Vec<&String> = names.iter().filter(|n| n.ends_with(".svg")).collect();
+    // Figures, in reading order.
+    let mut svgs: Vec<&String> = names.iter().filter(|n| n.ends_with(".svg")).collect();
+    svgs.sort_by_key(|n| reading_order(n));
     if !svgs.is_empty() {
         h += "<h2 id=\"figures\">Figures</h2>\n";
     }
@@ -362,6 +394,34 @@ pub fn write(dir: &Path, r: &ReportInputs) -> std::io::Result<std::path::PathBuf
 mod tests {
     //! Goal: the page holds every figure inline, the notes, and nothing remote.
     use super::*;
+
+    #[test]
+    fn figures_come_in_reading_order() {
+        let mut v = vec![
+            "study_mesh.svg",
+            "interface_slip.svg",
+            "fig11_hoop_fe_vs_analytical.svg",
+            "probes_temperature.svg",
+            "fig6_temperature_circumference.svg",
+            "fig10_tangential_displacement.svg",
+            "interface_contact_pressure.svg",
+            "fig7_temperature_through_wall.svg",
+        ];
+        v.sort_by_key(|n| reading_order(n));
+        assert_eq!(
+            v,
+            [
+                "fig6_temperature_circumference.svg",
+                "fig7_temperature_through_wall.svg",
+                "fig10_tangential_displacement.svg",
+                "fig11_hoop_fe_vs_analytical.svg",
+                "interface_contact_pressure.svg",
+                "interface_slip.svg",
+                "study_mesh.svg",
+                "probes_temperature.svg",
+            ]
+        );
+    }
 
     #[test]
     fn the_page_is_self_contained_with_figures_numbers_and_warnings() {

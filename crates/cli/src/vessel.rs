@@ -21,9 +21,8 @@ use tecon_elastic::{
 use tecon_mesh::{Mesh, VesselMeshSpec, vessel_mesh};
 
 use crate::driver::{self, LoadFactors};
-use crate::plot::Series;
 use crate::setup;
-use crate::writers::{self, StateFiles, csv, plot};
+use crate::writers::{self, StateFiles, csv};
 
 pub use crate::builtin::{VesselData, VesselOptions, default_mesh, schedule};
 pub use crate::driver::NewtonStats;
@@ -522,7 +521,7 @@ pub fn write_outputs(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<()> {
     writers::staged(dir, |tmp| write_files(run, v, tmp))
 }
 
-/// The vessel's figures, then the per-state files and the summary, into
+/// The vessel's figure tables (CSV) and figures, then the per-state files and the summary, into
 /// `dir`; returns the names written, `summary.json` last.
 fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>> {
     let mesh = &run.mesh;
@@ -537,14 +536,7 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
     let l_in = ring_nodes(mesh, layer, g.interface_radius());
     let l_out = ring_nodes(mesh, layer, g.outer_radius());
     let mut rows6 = Vec::new();
-    let mut series6 = Vec::new();
     for r in &run.results {
-        for (label, nodes) in [("inner", &l_in), ("outer", &l_out)] {
-            series6.push(Series {
-                label: format!("layer {label}, t = {} s", r.time),
-                points: nodes.iter().map(|&i| (deg(i), temperature(r)[i])).collect(),
-            });
-        }
         for (&a, &b) in l_in.iter().zip(&l_out) {
             rows6.push(vec![r.time, deg(a), temperature(r)[a], temperature(r)[b]]);
         }
@@ -554,23 +546,12 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
         "time_s,theta_deg,T_layer_inner_C,T_layer_outer_C",
         rows6,
     )?;
-    plot(
-        dir,
-        "fig6_temperature_circumference",
-        "Temperature around the layer",
-        "θ from the weld centre [°]",
-        "T [°C]",
-        series6,
-    )?;
 
     // Fig. 7: temperature through the wall at several angles.
     let angles = [0.0, 2.0, 10.0, 45.0, 180.0];
     let all_rows = rows(&run.options);
     let mut rows7 = Vec::new();
-    let mut series7 = Vec::new();
-    let early = &run.results[0];
     for &a in &angles {
-        let mut pts = Vec::new();
         for &(is_core, r) in &all_rows {
             let nodes = ring_nodes(mesh, if is_core { core } else { layer }, r);
             if let Some(&i) = nodes
@@ -581,32 +562,18 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
                 for res in &run.results {
                     rows7.push(vec![res.time, deg(i), wall, temperature(res)[i]]);
                 }
-                pts.push((wall, temperature(early)[i]));
             }
         }
-        series7.push(Series {
-            label: format!("θ ≈ {a}°, t = {} s", early.time),
-            points: pts,
-        });
     }
     csv(
         &dir.join("fig7_temperature_through_wall.csv"),
         "time_s,theta_deg,wall_percent,T_C",
         rows7,
     )?;
-    plot(
-        dir,
-        "fig7_temperature_through_wall",
-        "Temperature through the wall",
-        "position through the wall [% of thickness, core 0–67 %]",
-        "T [°C]",
-        series7,
-    )?;
 
     // Fig. 8 and 11: circumferential mean hoop stress through the wall, FE and analytical.
     let profile = hoop_profile(run, &last.stress);
     let an = analytical(&run.options);
-    let wall = |r: f64| 100.0 * (r - g.inner_radius) / (g.outer_radius() - g.inner_radius);
     csv(
         &dir.join("fig8_hoop_prestress_through_wall.csv"),
         "wall_percent,is_core,r_m,hoop_mean_Pa,analytical_plane_strain_Pa,analytical_plane_stress_Pa,analytical_plane_strain_consistent_Pa",
@@ -622,58 +589,6 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
             ]
         }),
     )?;
-    let split = |pred: bool| {
-        profile
-            .iter()
-            .filter(|p| p.1 == pred)
-            .map(|p| (p.0, p.3 / 1e6))
-            .collect::<Vec<_>>()
-    };
-    plot(
-        dir,
-        "fig8_hoop_prestress_through_wall",
-        "Hoop prestress through the wall (circumferential mean)",
-        "position through the wall [% of thickness, core 0–67 %]",
-        "σ_θθ [MPa]",
-        vec![
-            Series {
-                label: "core (FE)".into(),
-                points: split(true),
-            },
-            Series {
-                label: "layer (FE)".into(),
-                points: split(false),
-            },
-        ],
-    )?;
-    // one series per model, core then layer (the jump at the interface is drawn)
-    let mut series11 = vec![Series {
-        label: "FE (circumferential mean)".into(),
-        points: profile.iter().map(|p| (p.0, p.3 / 1e6)).collect(),
-    }];
-    for (name, f) in &an {
-        let mut points = Vec::new();
-        for in_core in [true, false] {
-            let (r0, r1) = if in_core { (f.a, f.c) } else { (f.c, f.b) };
-            points.extend(
-                (0..=20)
-                    .map(|k| r0 + (r1 - r0) * k as f64 / 20.0)
-                    .map(|r| (wall(r), f.sigma_tt(r, in_core) / 1e6)),
-            );
-        }
-        series11.push(Series {
-            label: format!("analytical, {}", name.replace('_', " ")),
-            points,
-        });
-    }
-    plot(
-        dir,
-        "fig11_hoop_fe_vs_analytical",
-        "Hoop prestress: FE against the shrink-fit model",
-        "position through the wall [% of thickness, core 0–67 %]",
-        "σ_θθ [MPa]",
-        series11,
-    )?;
 
     // Fig. 9: hoop stress around the circumference at the inner and outer surfaces.
     let c_in = ring_nodes(mesh, core, g.inner_radius);
@@ -688,29 +603,6 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
                     .iter()
                     .map(|&i| vec![1.0, deg(i), hoop_at(&last.stress, i)]),
             ),
-    )?;
-    plot(
-        dir,
-        "fig9_hoop_circumference",
-        "Hoop prestress around the circumference (surface 0 = inner, 1 = outer)",
-        "θ from the weld centre [°]",
-        "σ_θθ [MPa]",
-        vec![
-            Series {
-                label: "inner surface (core)".into(),
-                points: c_in
-                    .iter()
-                    .map(|&i| (deg(i), hoop_at(&last.stress, i) / 1e6))
-                    .collect(),
-            },
-            Series {
-                label: "outer surface (layer)".into(),
-                points: l_out
-                    .iter()
-                    .map(|&i| (deg(i), hoop_at(&last.stress, i) / 1e6))
-                    .collect(),
-            },
-        ],
     )?;
 
     // Fig. 10: tangential displacement of the outer surface.
@@ -733,97 +625,12 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
         "theta_deg,u_theta_m,free_weld_shrinkage_half_m",
         l_out.iter().map(|&i| vec![deg(i), ut(i), -shrink]),
     )?;
-    plot(
-        dir,
-        "fig10_tangential_displacement",
-        "Tangential displacement of the outer surface",
-        "θ from the weld centre [°]",
-        "u_θ [µm]",
-        vec![
-            Series {
-                label: "FE".into(),
-                points: l_out.iter().map(|&i| (deg(i), ut(i) * 1e6)).collect(),
-            },
-            Series {
-                label: "free shrinkage of the half weld, −κ α ΔT w/2".into(),
-                points: vec![(0.0, -shrink * 1e6), (180.0, -shrink * 1e6)],
-            },
-        ],
-    )?;
 
-    // Interface: contact pressure, slip and status.
-    let th = |p: &InterfacePointResult| p.position[1].atan2(p.position[0]).to_degrees();
-    csv(
-        &dir.join("interface_final.csv"),
-        "theta_deg,jump_t_m,jump_n_m,shear_Pa,contact_pressure_Pa,slip_m,status(0=open,1=stick,2=slip)",
-        last.interface.iter().map(|p| {
-            let st = match p.status {
-                tecon_contact::ContactStatus::Open => 0.0,
-                tecon_contact::ContactStatus::Stick => 1.0,
-                tecon_contact::ContactStatus::Slip => 2.0,
-            };
-            vec![
-                th(p),
-                p.jump[0],
-                p.jump[1],
-                p.traction[0],
-                -p.traction[1],
-                p.slip,
-                st,
-            ]
-        }),
-    )?;
-    plot(
-        dir,
-        "interface_contact_pressure",
-        "Core/layer interface after cooling",
-        "θ from the weld centre [°]",
-        "contact pressure [MPa]",
-        vec![
-            Series {
-                label: "FE".into(),
-                points: last
-                    .interface
-                    .iter()
-                    .map(|p| (th(p), -p.traction[1] / 1e6))
-                    .collect(),
-            },
-            Series {
-                label: "analytical (plane strain)".into(),
-                points: vec![
-                    (0.0, an[0].1.pressure() / 1e6),
-                    (180.0, an[0].1.pressure() / 1e6),
-                ],
-            },
-        ],
-    )?;
-    plot(
-        dir,
-        "interface_slip",
-        "Core/layer interface: slip and opening",
-        "θ from the weld centre [°]",
-        "[µm]",
-        vec![
-            Series {
-                label: "plastic slip g_s".into(),
-                points: last
-                    .interface
-                    .iter()
-                    .map(|p| (th(p), p.slip * 1e6))
-                    .collect(),
-            },
-            Series {
-                label: "opening Δu_n".into(),
-                points: last
-                    .interface
-                    .iter()
-                    .map(|p| (th(p), p.jump[1] * 1e6))
-                    .collect(),
-            },
-        ],
-    )?;
+    // The figures (SVG, PNG) and the interface table of the last state,
+    // drawn once (crate::front::write_figures).
+    crate::front::write_figures(run, dir)?;
 
-    // The figures written so far, then the per-state files every case
+    // The figures and tables written so far, then the per-state files every case
     // writes (VTK series, interface CSV), then the summary.
     let mut files: Vec<String> = std::fs::read_dir(dir)
         .map_err(|e| format!("{}: {e}", dir.display()))?
@@ -1000,7 +807,15 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
     let mut text = String::from(
         "mesh     triangles  core_inner[MPa] core_outer[MPa] layer_inner[MPa] layer_outer[MPa] p_contact[MPa]   seconds\n",
     );
-    for (name, spec) in specs {
+    let n_meshes = specs.len();
+    let mut h = Vec::new();
+    for (k, (name, spec)) in specs.into_iter().enumerate() {
+        // which mesh the study is on (stderr: stdout keeps the table)
+        eprintln!(
+            "study: mesh {} of {n_meshes}: {name} ({} triangles)",
+            k + 1,
+            spec.n_triangles()
+        );
         let o = VesselOptions {
             mesh: VesselMeshSpec {
                 fused_weld: base.mesh.fused_weld,
@@ -1010,6 +825,8 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
         };
         let run = analyse(&o)?;
         let v = summary(&run);
+        // element size: the root of the mean triangle area
+        h.push((run.mesh.areas().iter().sum::<f64>() / run.mesh.n_triangles() as f64).sqrt());
         let g = |k: &str| v.pointer(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
         let row = vec![
             run.mesh.n_triangles() as f64,
@@ -1019,6 +836,7 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
             g("/final/hoop_mean/layer_outer"),
             g("/final/contact_pressure_mean"),
             run.seconds,
+            h[h.len() - 1],
         ];
         text += &format!(
             "{name:<8} {:>9} {:>15.3} {:>15.3} {:>16.3} {:>16.3} {:>14.4} {:>9.2}\n",
@@ -1034,29 +852,34 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
     }
     csv(
         &out.join("study_mesh.csv"),
-        "triangles,hoop_core_inner_Pa,hoop_core_outer_Pa,hoop_layer_inner_Pa,hoop_layer_outer_Pa,contact_pressure_Pa,seconds",
+        "triangles,hoop_core_inner_Pa,hoop_core_outer_Pa,hoop_layer_inner_Pa,hoop_layer_outer_Pa,contact_pressure_Pa,seconds,h_m",
         table.clone(),
     )?;
-    let series = [
-        ("core inner", 1),
-        ("core outer", 2),
-        ("layer inner", 3),
-        ("layer outer", 4),
+    // log–log: the change between successive meshes against h, with the fitted order
+    let quantities: Vec<crate::figures::StudyQuantity> = [
+        ("hoop core inner", 1),
+        ("hoop core outer", 2),
+        ("hoop layer inner", 3),
+        ("hoop layer outer", 4),
+        ("contact pressure", 5),
     ]
     .iter()
-    .map(|&(l, k)| Series {
+    .map(|&(l, k)| crate::figures::StudyQuantity {
         label: l.into(),
-        points: table.iter().map(|r| (r[0].log10(), r[k] / 1e6)).collect(),
+        values: table.iter().map(|r| r[k] / 1e6).collect(),
     })
     .collect();
-    plot(
-        out,
-        "study_mesh",
-        "Mesh convergence of the mean hoop prestress",
-        "log10(triangles)",
-        "σ_θθ mean [MPa]",
-        series,
-    )?;
+    let (fig, orders) = crate::figures::mesh_study(&h, &quantities, "MPa");
+    fig.write_svg_png(&out.join("study_mesh"))?;
+    text += "observed order (slope of log |q(h) − q(h/2)| against log h):";
+    for (l, p) in &orders {
+        match p {
+            Some(p) => text += &format!(" {l} {p:.2};"),
+            None => text += &format!(" {l} -;"),
+        }
+    }
+    text.pop();
+    text.push('\n');
     print!("{text}");
     std::fs::write(out.join("study_mesh.txt"), &text)
         .map_err(|e| format!("{}: {e}", out.display()))?;

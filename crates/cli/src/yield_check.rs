@@ -199,6 +199,44 @@ impl YieldReport {
     }
 }
 
+/// Checks the `yield` keys of a case's materials: a stress > 0 in Pa.
+pub fn check_case_keys(case: &crate::case::Case) -> Result<(), String> {
+    for (i, m) in case.material.iter().enumerate() {
+        if let Some(y) = m.yield_stress
+            && !(y.is_finite() && y > 0.0)
+        {
+            return Err(format!(
+                "material[{i}].yield (region '{}'): {y} is not a yield stress > 0 in Pa",
+                m.region
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The check at every state: the JSON (one entry per output time), the
+/// warnings (`t = … s: …`, one per time and region above yield) and the
+/// report lines of the last state (a heading, then one line per region).
+pub fn check_states(
+    mesh: &Mesh,
+    states: &[crate::driver::State],
+    yield_of: &dyn Fn(&str) -> Option<f64>,
+) -> (Value, Vec<String>, Vec<String>) {
+    let mut all = Vec::new();
+    let mut warnings = Vec::new();
+    let mut last = Vec::new();
+    for s in states {
+        let r = check(mesh, &s.stress, yield_of);
+        let when = format!("t = {} s", crate::plot::fmt_value(s.time));
+        warnings.extend(r.warnings().into_iter().map(|w| format!("{when}: {w}")));
+        all.push(json!({ "time": s.time, "regions": r.to_json() }));
+        last = std::iter::once(format!("yield check at {when} (the last output):"))
+            .chain(r.lines(false).into_iter().map(|l| format!("  {l}")))
+            .collect();
+    }
+    (Value::Array(all), warnings, last)
+}
+
 #[cfg(test)]
 mod tests {
     //! Goal: the check finds the element above yield and names its region.

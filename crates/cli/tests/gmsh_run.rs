@@ -1,0 +1,188 @@
+//! `tecon run` on a real Gmsh mesh with a curved interface, and the case
+//! keys that check results against the domain and the material.
+//!
+//! Reference: the two-cylinder shrink fit (Lamé), plane strain, interference
+//! δ = (1 + ν) α ΔT c for an inner ring ΔT warmer than the stress-free state.
+//! Goal: the 8° sector of the vessel's core and layer, meshed by Gmsh 4.15
+//! itself at lc = 0.002 m (0.5 mm at θ = 0; the two faces of the joint meshed
+//! separately, so their nodes are a few nm apart:
+//! `crates/mesh/tests/data/make_msh.py`), pairs from its two physical curves
+//! and carries the Lamé contact pressure; a probe outside the mesh and a bad
+//! `yield` are refused naming them; a yield stress is checked.
+//!
+//! The joint is the linear one (springs k_n = k_s = 10 E/h): the fit stays
+//! closed everywhere, so it carries the same pressure as a bonded contact
+//! (observed: 1.016003e6 Pa against Lamé 1.016019e6 Pa, −0.002 %). Not covered: with the
+//! frictional or the sticking law the contact solve of this mesh does not
+//! converge yet (multipliers still changing after 30 outer updates at load
+//! fraction 0.001; sticking: status ping-pong) — a contact-solver issue.
+//!
+//! ```text
+//!        end (θ = 8°, symmetry)
+//!         \  outer  0.7747–0.7811 m
+//!          \ inner  0.762–0.7747 m, 50 K warm
+//!   ────────  start (θ = 0, symmetry)
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+use tecon_elastic::analytical::{Cylinders, ShrinkFit};
+
+fn msh() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../mesh/tests/data/vessel_sector_lc002.msh")
+}
+
+const E: f64 = 207e9;
+const NU: f64 = 0.3;
+const ALPHA: f64 = 12.51e-6;
+const DT: f64 = 50.0;
+
+/// The case file; `extra_material` goes into the inner ring's material,
+/// `probes` into `[output]`.
+fn case(extra_material: &str, probes: &str) -> String {
+    format!(
+        r#"
+[mesh]
+file = "{msh}"
+
+[[material]]
+region = "inner"
+conductivity = 63.9
+density = 7832.0
+specific_heat = 434.0
+youngs_modulus = {E:e}
+poisson_ratio = {NU}
+expansion = {ALPHA:e}
+{extra_material}
+
+[[material]]
+region = "outer"
+conductivity = 63.9
+density = 7832.0
+specific_heat = 434.0
+youngs_modulus = {E:e}
+poisson_ratio = {NU}
+expansion = {ALPHA:e}
+
+[[interface]]
+name = "joint"
+bottom = "inner_face"
+top = "outer_face"
+[interface.joint]
+law = "linear"
+
+[thermal.initial]
+default = 21.0
+[[thermal.initial.region]]
+region = "inner"
+value = {hot}
+
+[mechanical]
+analysis = "plane-strain"
+reference_temperature = 21.0
+[[mechanical.symmetry]]
+edges = "start"
+[[mechanical.symmetry]]
+edges = "end"
+
+[output]
+vtk = false
+probes = {probes}
+"#,
+        msh = msh().display(),
+        hot = 21.0 + DT,
+    )
+}
+
+fn run(dir: &Path, text: &str) -> std::process::Output {
+    let file = dir.join("sector.toml");
+    std::fs::write(&file, text).unwrap();
+    Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .arg("run")
+        .arg(&file)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_gmsh_mesh_with_a_curved_interface_at_lc_2mm_runs_through_tecon_run() {
+    let d = tempfile::tempdir().unwrap();
+    // yield 2 MPa: the core's hoop compression (≈ 3 MPa von Mises) exceeds it
+    let o = run(
+        d.path(),
+        &case("yield = 2e6", "[[0.768, 0.001], [0.778, 0.05]]"),
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    let v: Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("out/summary.json")).unwrap())
+            .unwrap();
+    assert!(
+        v["mesh"]["triangles"].as_u64().unwrap() > 1000,
+        "{}",
+        v["mesh"]
+    );
+    let p = v
+        .pointer("/times/0/interfaces/joint/contact_pressure_mean")
+        .and_then(Value::as_f64)
+        .unwrap();
+    let fit = ShrinkFit {
+        a: 0.762,
+        c: 0.7747,
+        b: 0.7811,
+        delta: (1.0 + NU) * ALPHA * DT * 0.7747,
+        e: E,
+        nu: NU,
+        state: Cylinders::PlaneStrain,
+    };
+    let exact = fit.pressure();
+    eprintln!(
+        "gmsh sector: p = {p:.6e} Pa, Lamé {exact:.6e} Pa ({:+.3} %)",
+        100.0 * (p / exact - 1.0)
+    );
+    assert!((p / exact - 1.0).abs() < 1e-3, "p = {p}, Lamé {exact}");
+    // the yield check names the inner ring and the warning reaches the report
+    assert!(
+        stdout.contains("region inner: peak von Mises") && stdout.contains("EXCEEDED"),
+        "{stdout}"
+    );
+    let w = v["warnings"].as_array().expect("warnings");
+    assert!(
+        w.iter()
+            .any(|w| w.as_str().unwrap().contains("in region inner")),
+        "{w:?}"
+    );
+    assert!(v["yield_check"][0]["regions"].is_array());
+    // timings apart
+    let t: Value =
+        serde_json::from_str(&std::fs::read_to_string(d.path().join("out/timing.json")).unwrap())
+            .unwrap();
+    assert!(t["seconds"].as_f64().is_some() && v.get("seconds").is_none());
+}
+
+#[test]
+fn a_probe_outside_the_mesh_and_a_bad_yield_are_refused_naming_them() {
+    let d = tempfile::tempdir().unwrap();
+    // (0.77, -0.001) lies below the sector (y < 0), 1 mm outside
+    let o = run(d.path(), &case("", "[[0.768, 0.001], [0.77, -0.001]]"));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("sector.toml: output.probes[1]: the point (0.77, -0.001) lies outside the mesh"),
+        "{e}"
+    );
+    assert!(!d.path().join("out/summary.json").exists());
+
+    let o = run(d.path(), &case("yield = -5.0", "[]"));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("material[0].yield (region 'inner'): -5 is not a yield stress > 0"),
+        "{e}"
+    );
+}
