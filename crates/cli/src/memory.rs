@@ -100,7 +100,7 @@ pub fn case_triangles(case: &Case) -> Option<(usize, usize)> {
     let m = &case.mesh;
     match m.generator.as_deref()? {
         "vessel" => {
-            let spec = m.vessel_spec.clone().or_else(|| match &m.preset {
+            let spec = m.vessel_spec.or_else(|| match &m.preset {
                 None => VesselMeshSpec::refined(2).ok(),
                 Some(toml::Value::Integer(l)) => u32::try_from(*l)
                     .ok()
