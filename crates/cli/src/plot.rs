@@ -131,6 +131,16 @@ pub fn fmt_tick(v: f64) -> String {
     if s == "-0" { "0".into() } else { s }
 }
 
+/// A tick label of a logarithmic axis: the value at the tick rounded to two
+/// significant digits (`0.00251189 → "0.0025"`, `0.0158489 → "0.016"`).
+pub fn fmt_log_tick(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return fmt_tick(v);
+    }
+    let scale = 10f64.powi(v.log10().floor() as i32 - 1);
+    fmt_tick((v / scale).round() * scale)
+}
+
 /// A value for a legend or a title: like [`fmt_tick`] (`1 s`, `600 s`, `0.02 s`).
 pub fn fmt_value(v: f64) -> String {
     fmt_tick(v)
@@ -455,11 +465,11 @@ impl Panel {
             .map_err(|e| err(path, e))?;
         let fx = |v: &f64| match self.x.scale {
             Scale::Linear => fmt_tick(*v),
-            Scale::Log => fmt_tick(10f64.powf(*v)),
+            Scale::Log => fmt_log_tick(10f64.powf(*v)),
         };
         let fy = |v: &f64| match self.y.scale {
             Scale::Linear => fmt_tick(*v),
-            Scale::Log => fmt_tick(10f64.powf(*v)),
+            Scale::Log => fmt_log_tick(10f64.powf(*v)),
         };
         chart
             .configure_mesh()
@@ -829,6 +839,15 @@ impl ColouredPath {
 mod tests {
     //! Goal: what is drawn stays inside its frame, in the PNG as in the SVG.
     use super::*;
+
+    #[test]
+    fn log_ticks_have_two_significant_digits() {
+        assert_eq!(fmt_log_tick(0.00251189), "0.0025");
+        assert_eq!(fmt_log_tick(0.0158489), "0.016");
+        assert_eq!(fmt_log_tick(0.01), "0.01");
+        assert_eq!(fmt_log_tick(1e-5), "1e-5");
+        assert_eq!(fmt_log_tick(398107.0), "400000");
+    }
 
     #[test]
     fn a_sharp_spike_stays_inside_the_frame_in_the_png() {
