@@ -371,3 +371,130 @@ fn joint_normals_choice() {
     );
     assert!((p / 8.390324e6 - 1.0).abs() < 1e-3, "{p}");
 }
+
+// ---------------------------------------------------------------------------
+// Element order and bonded interfaces
+// ---------------------------------------------------------------------------
+
+/// `[mesh] order = 1 | 2`: the generators make 6-node triangles on request,
+/// a Gmsh file of 6-node triangles is order 2 by itself (an explicit
+/// `order = 1` contradicting it is an error naming the key and the file),
+/// `order = 2` promotes a file of 3-node triangles, and other values are an
+/// error naming the key.
+#[test]
+fn mesh_order_key() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/mesh/tests/data");
+    let lame = std::fs::read_to_string(cases_dir().join("lame.toml")).unwrap();
+    let order = |text: &str, base: &Path| {
+        let c = case::parse(text, Path::new("order.toml")).unwrap();
+        tecon_cli::setup::build_mesh(&c, base).map(|m| (m.order(), m.n_nodes(), m.n_triangles()))
+    };
+    let p1 = order(&lame, &cases_dir()).unwrap();
+    assert_eq!(p1.0, 1);
+    let with = |o: &str| {
+        lame.replacen(
+            "generator = \"annulus\"",
+            &format!("generator = \"annulus\"\norder = {o}"),
+            1,
+        )
+    };
+    let p2 = order(&with("2"), &cases_dir()).unwrap();
+    assert_eq!((p2.0, p2.2), (2, p1.2), "same triangles, 6 nodes each");
+    // 24 × 12 cells: (25·13) corners + 25·12 + 24·13 + 24·12 mid nodes
+    assert_eq!(p2.1, 25 * 13 + 25 * 12 + 24 * 13 + 24 * 12);
+    assert_eq!(order(&with("1"), &cases_dir()).unwrap(), p1);
+    for bad in ["3", "0"] {
+        let e = order(&with(bad), &cases_dir()).unwrap_err().to_string();
+        assert!(e.contains("order.toml") && e.contains("mesh.order"), "{e}");
+    }
+    let vessel = std::fs::read_to_string(cases_dir().join("vessel.toml")).unwrap();
+    let v2 = vessel.replacen(
+        "generator = \"vessel\"",
+        "generator = \"vessel\"\norder = 2",
+        1,
+    );
+    assert_ne!(v2, vessel);
+    assert_eq!(order(&v2, &cases_dir()).unwrap().0, 2);
+    // Gmsh: the file's order, or the key's when it promotes a linear file
+    let gmsh = |file: &str, o: &str| format!("[mesh]\nfile = \"{file}\"\n{o}");
+    assert_eq!(order(&gmsh("rings_p2.msh", ""), &data).unwrap().0, 2);
+    assert_eq!(
+        order(&gmsh("rings_p2.msh", "order = 2\n"), &data)
+            .unwrap()
+            .0,
+        2
+    );
+    let e = order(&gmsh("rings_p2.msh", "order = 1\n"), &data)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("mesh.order = 1") && e.contains("rings_p2.msh") && e.contains("6-node"),
+        "{e}"
+    );
+    assert_eq!(order(&gmsh("two_blocks.msh", ""), &data).unwrap().0, 1);
+    assert_eq!(
+        order(&gmsh("two_blocks.msh", "order = 2\n"), &data)
+            .unwrap()
+            .0,
+        2
+    );
+}
+
+/// A shrink-free thick cylinder of two bonded rings is the one-piece Lamé
+/// cylinder: u_r at the bore within 0.5 % of Lamé on this coarse mesh (the
+/// observed order of the tie is asserted in crates/elastic/tests/tie.rs).
+/// A bonded joint takes no penalty, friction or normals key, and its
+/// conductance must be a constant.
+#[test]
+fn bonded_rings_are_the_lame_cylinder() {
+    let text = "[mesh]\ngenerator = \"annulus\"\ntheta0 = 0.0\ntheta1 = 90.0\nsegments = 24\n\
+[[mesh.layer]]\nname = \"inner\"\nr_in = 1.0\nr_out = 1.25\nrows = 6\n\
+[[mesh.layer]]\nname = \"outer\"\nr_in = 1.25\nr_out = 1.5\nrows = 6\n\
+[[material]]\nregion = \"inner\"\nyoungs_modulus = 207e9\npoisson_ratio = 0.3\n\
+[[material]]\nregion = \"outer\"\nyoungs_modulus = 207e9\npoisson_ratio = 0.3\n\
+[[interface]]\nname = \"inner_outer\"\n[interface.joint]\nlaw = \"bonded\"\n\
+[mechanical]\n[[mechanical.symmetry]]\nedges = \"start\"\n[[mechanical.symmetry]]\nedges = \"end\"\n\
+[[mechanical.pressure]]\nedges = \"inner\"\nvalue = 100e6\n\
+[output]\nprobes = [[1.0, 0.0]]\n";
+    let c = case::parse(text, Path::new("bonded.toml")).unwrap();
+    let res = case::execute(&c, &cases_dir()).unwrap();
+    let lame = LameCylinder {
+        a: 1.0,
+        b: 1.5,
+        p: 100e6,
+        e: 207e9,
+        nu: 0.3,
+    };
+    let node = res.probes[0].1;
+    let ux = res.states[0].displacement[2 * node];
+    let err = ux / lame.u_r(1.0) - 1.0;
+    assert!(
+        err.abs() < 5e-3,
+        "bore u_r {ux} against Lamé {}: {err:e}",
+        lame.u_r(1.0)
+    );
+    assert_eq!(res.summary["joints"]["inner_outer"]["law"], "bonded");
+    assert!(
+        res.states[0].interface.is_empty(),
+        "a tie has no interface points"
+    );
+
+    for (extra, key) in [
+        ("k_n = 1e15\n", "k_n"),
+        ("penalty_factor = 100.0\n", "penalty_factor"),
+        ("friction = 0.3\n", "friction"),
+        ("normals = \"element\"\n", "normals"),
+    ] {
+        let bad = text.replacen(
+            "law = \"bonded\"\n",
+            &format!("law = \"bonded\"\n{extra}"),
+            1,
+        );
+        let c = case::parse(&bad, Path::new("bonded.toml")).unwrap();
+        let e = case::execute(&c, &cases_dir()).unwrap_err().to_string();
+        assert!(
+            e.contains("bonded.toml") && e.contains(key) && e.contains("bonded"),
+            "{e}"
+        );
+    }
+}

@@ -56,6 +56,43 @@ impl Default for VesselData {
     }
 }
 
+/// The core/layer joint of `tecon vessel --interface`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum InterfaceKind {
+    /// The paper's joint: penalty contact with Mohr–Coulomb friction
+    /// (`--friction`, `--cohesion`).
+    #[default]
+    Frictional,
+    /// Penalty contact without friction (μ = 0, c = 0).
+    Frictionless,
+    /// Tied: core and layer share the displacements of their facing nodes
+    /// (no penalty, never opens).
+    Bonded,
+}
+
+impl InterfaceKind {
+    /// Parses `frictional`, `frictionless` or `bonded`.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "frictional" => Ok(InterfaceKind::Frictional),
+            "frictionless" => Ok(InterfaceKind::Frictionless),
+            "bonded" => Ok(InterfaceKind::Bonded),
+            other => Err(format!(
+                "--interface {other}: expected 'frictional', 'frictionless' or 'bonded'"
+            )),
+        }
+    }
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            InterfaceKind::Frictional => "frictional",
+            InterfaceKind::Frictionless => "frictionless",
+            InterfaceKind::Bonded => "bonded",
+        }
+    }
+}
+
 /// Everything a vessel run needs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VesselOptions {
@@ -65,7 +102,9 @@ pub struct VesselOptions {
     pub mesh: VesselMeshSpec,
     /// Material and process data.
     pub data: VesselData,
-    /// Friction coefficient μ = tan φ of the core/layer joint.
+    /// The core/layer joint (frictional, frictionless or bonded).
+    pub interface: InterfaceKind,
+    /// Friction coefficient μ = tan φ of the core/layer joint (frictional).
     pub friction: f64,
     /// Cohesion c of the joint, Pa.
     pub cohesion: f64,
@@ -99,6 +138,7 @@ impl Default for VesselOptions {
             geometry: VesselGeometry::default(),
             mesh: default_mesh(),
             data: VesselData::default(),
+            interface: InterfaceKind::Frictional,
             friction: 0.3,
             cohesion: 0.0,
             penalty_factor: tecon_contact::DEFAULT_PENALTY_FACTOR,
@@ -216,20 +256,39 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             } else {
                 toml::Value::Float(d.interface_conductance)
             }),
-            joint: Some(JointSection {
-                law: "frictional".into(),
-                k_n: Some(o.penalty_factor * d.youngs_modulus / h),
-                k_s: None,
-                penalty_factor: None,
-                friction: Some(o.friction),
-                cohesion: Some(o.cohesion),
-                normals: Some(
-                    match o.normals {
-                        InterfaceNormals::Smoothed => "smoothed",
-                        InterfaceNormals::Element => "element",
-                    }
-                    .into(),
-                ),
+            joint: Some(match o.interface {
+                InterfaceKind::Bonded => JointSection {
+                    law: crate::setup::BONDED.into(),
+                    k_n: None,
+                    k_s: None,
+                    penalty_factor: None,
+                    friction: None,
+                    cohesion: None,
+                    normals: None,
+                },
+                kind => JointSection {
+                    law: "frictional".into(),
+                    k_n: Some(o.penalty_factor * d.youngs_modulus / h),
+                    k_s: None,
+                    penalty_factor: None,
+                    friction: Some(if kind == InterfaceKind::Frictionless {
+                        0.0
+                    } else {
+                        o.friction
+                    }),
+                    cohesion: Some(if kind == InterfaceKind::Frictionless {
+                        0.0
+                    } else {
+                        o.cohesion
+                    }),
+                    normals: Some(
+                        match o.normals {
+                            InterfaceNormals::Smoothed => "smoothed",
+                            InterfaceNormals::Element => "element",
+                        }
+                        .into(),
+                    ),
+                },
             }),
         })
         .collect();

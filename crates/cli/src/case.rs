@@ -84,6 +84,12 @@ pub struct MeshSection {
     pub file: Option<PathBuf>,
     /// `"vessel"`, `"annulus"` or `"rectangle"`.
     pub generator: Option<String>,
+    /// Element order: 1 (3-node triangles) or 2 (6-node triangles with
+    /// curved edges on the generators' circles). Default: the generator's
+    /// (1), or the Gmsh file's (a file of 6-node triangles is order 2; an
+    /// explicit order that contradicts it is an error; `order = 2` promotes a
+    /// file of 3-node triangles with straight edges).
+    pub order: Option<usize>,
     /// vessel: `"paper"` or a refinement level 0–9 (integer or string); default 2.
     pub preset: Option<toml::Value>,
     /// vessel: fuse the weld to the core (no interface under the weld).
@@ -180,7 +186,8 @@ pub struct InterfaceSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct JointSection {
-    /// `"linear"`, `"frictional"` or `"sticking"`.
+    /// `"linear"`, `"frictional"`, `"sticking"` or `"bonded"` (tied: the
+    /// facing nodes share their displacements; no parameters).
     pub law: String,
     /// Normal stiffness k_n, Pa/m (default β E / h).
     pub k_n: Option<f64>,
@@ -456,8 +463,9 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     crate::probes::check_inside(&mesh, &case.output.probes, "output.probes")
         .map_err(|e| err(f, e))?;
     setup::declare_interfaces(case, &mut mesh)?;
+    let tie = setup::tie(case, &mesh)?;
     let (outcome, joints, al, analysis, probes) = {
-        let p = setup::prepare(case, &mesh)?;
+        let p = setup::prepare(case, &mesh, tie.as_ref())?;
         let outcome = driver::run(&p.setup).map_err(|e| err(f, e))?;
         (
             outcome,

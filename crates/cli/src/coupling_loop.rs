@@ -414,7 +414,7 @@ pub(crate) fn two_way<'s>(
 ) -> Result<Outcome, DriverError> {
     let model = th.model.clone();
     let system = model.assemble().map_err(DriverError::ThermalAssembly)?;
-    let reference = reference_field(&th.reference_temperature, &system)?;
+    let reference = crate::driver::stress_free_reference(setup.mesh, th, &system)?;
     let initial = system
         .initial_temperature()
         .ok_or(DriverError::NoInitialTemperature)?

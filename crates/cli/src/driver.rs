@@ -17,7 +17,7 @@
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use tecon_elastic::{
     ElasticError, ElasticModel, IncrementReport, InterfacePointResult, Loads, SolverOptions,
-    StaticSolver, StressField,
+    StaticSolver, StressField, TiedMesh,
 };
 use tecon_mesh::Mesh;
 use tecon_thermal::{ThermalError, ThermalModel, ThetaScheme, TimeSchedule};
@@ -184,8 +184,11 @@ pub enum Coupling {
 /// Everything the driver needs; the mesh is borrowed from the front door.
 #[derive(Debug)]
 pub struct Setup<'m> {
-    /// The mesh.
+    /// The mesh (heat conduction and every result live on it).
     pub mesh: &'m Mesh,
+    /// Bonded interfaces: the elastic model is built on this mesh (facing
+    /// nodes merged) and its results are carried back to `mesh`.
+    pub tie: Option<&'m TiedMesh>,
     /// Heat conduction (None: purely mechanical, one solve per stage).
     pub thermal: Option<ThermalSetup<'m>>,
     /// The elastic model with its interfaces.
@@ -401,7 +404,7 @@ fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction
         return Ok((Vec::new(), None, info));
     };
     let system = th.model.assemble().map_err(DriverError::ThermalAssembly)?;
-    let reference = reference_field(&th.reference_temperature, &system)?;
+    let reference = stress_free_reference(setup.mesh, th, &system)?;
     let mut states = Vec::new();
     let info = match &th.procedure {
         Procedure::Held => {
@@ -464,6 +467,55 @@ fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction
     Ok((states, Some(reference), info))
 }
 
+/// The stress-free temperature T_ref,e of every element: the case's
+/// `reference_temperature` if given; otherwise, on linear triangles, the
+/// element mean of the initial nodal field (the initial state is exactly
+/// free of thermal strain), and on 6-node triangles the initial temperature
+/// of the element's region (the piecewise constant field before the border
+/// rule), so that the eigenstrain α (T − T_ref,e) of the weld keeps its jump
+/// at the weld edge when the temperature varies inside the element.
+pub(crate) fn stress_free_reference(
+    mesh: &Mesh,
+    th: &ThermalSetup<'_>,
+    system: &tecon_thermal::ThermalSystem<'_>,
+) -> Result<Vec<f64>, DriverError> {
+    if !matches!(th.reference_temperature, Reference::Initial) {
+        return reference_field(&th.reference_temperature, system);
+    }
+    let region = (mesh.order() == 2)
+        .then(|| system.region_initial_temperature().map(<[f64]>::to_vec))
+        .flatten();
+    region
+        .or_else(|| system.reference_temperature())
+        .ok_or(DriverError::NoInitialTemperature)
+}
+
+/// The thermal load `Loads::delta_t` of the elastic solver: on linear
+/// triangles one value per element, `T̄_e − T_ref,e` (element mean
+/// temperature); on 6-node triangles six values per element, element-major
+/// in [`Mesh::triangles6`] node order, `T_a − T_ref,e` (nodal temperature
+/// minus the element's reference), so the temperature is interpolated to
+/// the integration points inside the element.
+pub fn thermal_load(
+    mesh: &Mesh,
+    nodal: &[f64],
+    element_mean: &[f64],
+    reference: &[f64],
+) -> Vec<f64> {
+    match mesh.triangles6() {
+        Some(t6) => t6
+            .iter()
+            .zip(reference)
+            .flat_map(|(t, r)| t.map(|a| nodal[a] - r))
+            .collect(),
+        None => element_mean
+            .iter()
+            .zip(reference)
+            .map(|(t, r)| t - r)
+            .collect(),
+    }
+}
+
 /// The contact solver with its path-dependent state and statistics.
 pub(crate) struct Contact<'s> {
     setup: &'s Setup<'s>,
@@ -512,12 +564,9 @@ impl<'s> Contact<'s> {
         pb: &ProgressBar,
     ) -> Result<State, DriverError> {
         let delta_t = match (th, &self.reference) {
-            (Some(s), Some(r)) => s
-                .element_temperature
-                .iter()
-                .zip(r)
-                .map(|(t, r)| t - r)
-                .collect(),
+            (Some(s), Some(r)) => {
+                thermal_load(self.setup.mesh, &s.temperature, &s.element_temperature, r)
+            }
             _ => Vec::new(),
         };
         let loads = Loads {
@@ -545,9 +594,9 @@ impl<'s> Contact<'s> {
             temperature: th.map(|s| s.temperature.clone()),
             element_temperature: th.map(|s| s.element_temperature.clone()),
             heat_balance: th.and_then(|s| s.heat_balance),
-            displacement: self.solver.displacement().to_vec(),
+            displacement: on_mesh_displacement(self.setup, self.solver.displacement()),
             eps_zz: self.solver.eps_zz(),
-            stress: self.solver.stresses(),
+            stress: on_mesh_stress(self.setup, self.solver.stresses()),
             interface: self.solver.interface_results(),
             max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
             max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
@@ -578,15 +627,71 @@ fn print_history(time: f64, reports: &[IncrementReport]) {
     }
 }
 
+/// Displacements of the elastic model on the setup's mesh (a tied model's
+/// expanded to both nodes of every tied pair).
+fn on_mesh_displacement(setup: &Setup<'_>, u: &[f64]) -> Vec<f64> {
+    match setup.tie {
+        Some(t) => t.expand_displacement(u),
+        None => u.to_vec(),
+    }
+}
+
+/// Stresses of the elastic model on the setup's mesh. Elements keep their
+/// numbers when interfaces are tied; a node of a tied pair takes the
+/// area-weighted mean of its own body's elements (never averaged across
+/// the interface), every other node the solver's value.
+fn on_mesh_stress(setup: &Setup<'_>, s: StressField) -> StressField {
+    let Some(t) = setup.tie else {
+        return s;
+    };
+    let mesh = setup.mesh;
+    let map = t.node_map();
+    let mut shared = vec![0u8; t.mesh().n_nodes()];
+    for &m in map {
+        shared[m] = shared[m].saturating_add(1);
+    }
+    let mut nodal = t.expand_nodal(&s.nodal);
+    let mut acc = vec![[0.0; 5]; mesh.n_nodes()];
+    let areas = mesh.areas();
+    let mut add = |e: usize, v: usize| {
+        if shared[map[v]] > 1 {
+            for k in 0..4 {
+                acc[v][k] += areas[e].abs() * s.element[e][k];
+            }
+            acc[v][4] += areas[e].abs();
+        }
+    };
+    match mesh.triangles6() {
+        Some(t6) => t6
+            .iter()
+            .enumerate()
+            .for_each(|(e, tri)| tri.iter().for_each(|&v| add(e, v))),
+        None => mesh
+            .triangles()
+            .iter()
+            .enumerate()
+            .for_each(|(e, tri)| tri.iter().for_each(|&v| add(e, v))),
+    }
+    for (v, a) in acc.iter().enumerate() {
+        if a[4] > 0.0 {
+            nodal[v] = [a[0] / a[4], a[1] / a[4], a[2] / a[4], a[3] / a[4]];
+        }
+    }
+    StressField {
+        element: s.element,
+        nodal,
+    }
+}
+
 /// One mechanical solve from the unloaded state with the given load factors
-/// and no temperature change (e.g. the operating pressure alone).
+/// and no temperature change (e.g. the operating pressure alone), with the
+/// setup's elastic model and solver options; results on the setup's mesh.
 pub fn solve_mechanical(
-    model: &ElasticModel<'_>,
-    options: SolverOptions,
+    setup: &Setup<'_>,
     loads: LoadFactors,
 ) -> Result<(StressField, Vec<f64>), DriverError> {
-    let mut s =
-        StaticSolver::new(model, options).map_err(|e| DriverError::Mechanical(Box::new(e)))?;
+    let mut s = StaticSolver::new(&setup.model, setup.solver)
+        .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
     s.advance(&Loads {
         pressure: loads.pressure,
         displacement: loads.displacement,
@@ -597,5 +702,8 @@ pub fn solve_mechanical(
         time: 0.0,
         source: Box::new(e),
     })?;
-    Ok((s.stresses(), s.displacement().to_vec()))
+    Ok((
+        on_mesh_stress(setup, s.stresses()),
+        on_mesh_displacement(setup, s.displacement()),
+    ))
 }

@@ -289,12 +289,15 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
         &dir.join("interface_final.csv"),
         &figures::interface_csv(&rows),
     )?;
-    figures::interface_pressure(
-        &rows,
-        Some(("two cylinders, plane-strain consistent", an[2].1.pressure())),
-    )
-    .write_svg_png(&dir.join("interface_contact_pressure"))?;
-    figures::interface_slip(&rows).write_svg_png(&dir.join("interface_slip"))?;
+    // (a bonded interface has no interface points: nothing to plot)
+    if !rows.is_empty() {
+        figures::interface_pressure(
+            &rows,
+            Some(("two cylinders, plane-strain consistent", an[2].1.pressure())),
+        )
+        .write_svg_png(&dir.join("interface_contact_pressure"))?;
+        figures::interface_slip(&rows).write_svg_png(&dir.join("interface_slip"))?;
+    }
     Ok(())
 }
 

@@ -9,10 +9,11 @@ use std::path::Path;
 use serde_json::{Value, json};
 use tecon_contact::{ElasticJoint, GhaboussiNormal, LinearJoint, PaperJoint};
 use tecon_elastic::{
-    Analysis, Component, ElasticModel, InterfaceNormals, Joint, Material, SolverOptions,
+    Analysis, Component, ElasticModel, InterfaceNormals, Joint, Material, SolverOptions, TiedMesh,
 };
 use tecon_mesh::{
-    Mesh, RingLayer, VesselGeometry, layered_annulus, read_msh, rectangle, vessel_mesh,
+    Mesh, RingLayer, VesselGeometry, layered_annulus_of_order, read_msh, rectangle_of_order,
+    vessel_mesh,
 };
 use tecon_thermal::{EdgeBc, InterfaceQuadrature, ThermalModel, ThetaScheme, TimeSchedule};
 
@@ -33,7 +34,10 @@ pub(crate) fn positive(file: &Path, key: &str, v: f64) -> CliResult<f64> {
     }
 }
 
-pub(crate) fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
+/// The mesh of `[mesh]` (a Gmsh file or a generator) at the element order
+/// the case asks for; interfaces are declared afterwards
+/// ([`declare_interfaces`]).
+pub fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
     let f = &case.source;
     let m = &case.mesh;
     let vessel_keys = [
@@ -65,6 +69,15 @@ pub(crate) fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
         Ok(())
     };
     let mesh_err = |e: tecon_mesh::MeshError| err(f, format!("mesh: {e}"));
+    if let Some(o) = m.order
+        && o != 1
+        && o != 2
+    {
+        return Err(err(
+            f,
+            format!("mesh.order = {o}: expected 1 (3-node triangles) or 2 (6-node triangles)"),
+        ));
+    }
     match (&m.file, m.generator.as_deref()) {
         (Some(_), Some(_)) => Err(err(f, "[mesh]: give either file or generator, not both")),
         (None, None) => Err(err(
@@ -76,7 +89,18 @@ pub(crate) fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
             only(&annulus_keys, "annulus")?;
             only(&rect_keys, "rectangle")?;
             let path = base.join(file);
-            read_msh(&path).map_err(|e| err(f, format!("mesh.file: {e}")))
+            let mesh = read_msh(&path).map_err(|e| err(f, format!("mesh.file: {e}")))?;
+            match (m.order, mesh.order()) {
+                (Some(1), 2) => Err(err(
+                    f,
+                    format!(
+                        "mesh.order = 1: {} holds 6-node triangles (Gmsh type 9), which are order 2; drop the key or give order = 2",
+                        path.display()
+                    ),
+                )),
+                (Some(2), 1) => mesh.to_quadratic(&[]).map_err(mesh_err),
+                _ => Ok(mesh),
+            }
         }
         (None, Some("vessel")) => {
             only(&annulus_keys, "annulus")?;
@@ -129,6 +153,7 @@ pub(crate) fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
             };
             let spec = tecon_mesh::VesselMeshSpec {
                 fused_weld: m.fused_weld.unwrap_or(false),
+                order: m.order.unwrap_or(spec.order),
                 ..spec
             };
             vessel_mesh(&geo, &spec).map_err(mesh_err)
@@ -170,7 +195,8 @@ pub(crate) fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
                 .ok_or_else(|| err(f, "mesh.segments: the annulus needs the intervals around"))?;
             let t0 = m.theta0.unwrap_or(0.0).to_radians();
             let t1 = m.theta1.unwrap_or(360.0).to_radians();
-            layered_annulus(&layers, t0, t1, segments).map_err(mesh_err)
+            layered_annulus_of_order(&layers, t0, t1, segments, m.order.unwrap_or(1))
+                .map_err(mesh_err)
         }
         (None, Some("rectangle")) => {
             only(&vessel_keys, "vessel")?;
@@ -184,7 +210,8 @@ pub(crate) fn build_mesh(case: &Case, base: &Path) -> CliResult<Mesh> {
                 .ok_or_else(|| err(f, "mesh.divisions: the rectangle needs [nx, ny]"))?;
             positive(f, "mesh.size[0] (width)", s[0])?;
             positive(f, "mesh.size[1] (height)", s[1])?;
-            rectangle(o[0], o[1], s[0], s[1], d[0], d[1]).map_err(mesh_err)
+            rectangle_of_order(o[0], o[1], s[0], s[1], d[0], d[1], m.order.unwrap_or(1))
+                .map_err(mesh_err)
         }
         (None, Some(other)) => Err(err(
             f,
@@ -391,7 +418,7 @@ fn joint(
             return Err(err(
                 f,
                 format!(
-                    "{key}.law = \"{other}\": expected \"linear\", \"frictional\" or \"sticking\""
+                    "{key}.law = \"{other}\": expected \"linear\", \"frictional\", \"sticking\" or \"bonded\""
                 ),
             ));
         }
@@ -478,6 +505,66 @@ pub(crate) fn declare_interfaces(case: &Case, mesh: &mut Mesh) -> CliResult<()> 
         }
     }
     Ok(())
+}
+
+/// The joint law name of a bonded (tied) interface.
+pub const BONDED: &str = "bonded";
+
+fn is_bonded(i: &crate::case::InterfaceSection) -> bool {
+    i.joint.as_ref().is_some_and(|j| j.law == BONDED)
+}
+
+/// The mesh of the elastic model when the case ties interfaces (joint
+/// `law = "bonded"`): their facing nodes merged ([`TiedMesh`]); `None`
+/// when nothing is bonded. A bonded joint takes no parameter (it has no
+/// penalty), and its conductance must be a constant (it never opens).
+pub fn tie(case: &Case, mesh: &Mesh) -> CliResult<Option<TiedMesh>> {
+    let f = &case.source;
+    let mut names = Vec::new();
+    for (k, i) in case.interface.iter().enumerate() {
+        if !is_bonded(i) {
+            continue;
+        }
+        let key = format!("interface[{k}].joint ('{}')", i.name);
+        if let Some(j) = &i.joint {
+            for (name, given) in [
+                ("k_n", j.k_n.is_some()),
+                ("k_s", j.k_s.is_some()),
+                ("penalty_factor", j.penalty_factor.is_some()),
+                ("friction", j.friction.is_some()),
+                ("cohesion", j.cohesion.is_some()),
+                ("normals", j.normals.is_some()),
+            ] {
+                if given {
+                    return Err(err(
+                        f,
+                        format!(
+                            "{key}.{name}: not a parameter of law = \"bonded\" (a tied interface shares the displacements of its facing nodes; it has no penalty)"
+                        ),
+                    ));
+                }
+            }
+        }
+        if let Some(h) = &i.conductance
+            && let crate::conductance::Conductance::Law(_) =
+                crate::conductance::parse(f, &format!("interface[{k}] ('{}')", i.name), h)?
+        {
+            return Err(err(
+                f,
+                format!(
+                    "interface[{k}] ('{}').conductance: a bonded interface never opens; give a constant conductance",
+                    i.name
+                ),
+            ));
+        }
+        names.push(i.name.as_str());
+    }
+    if names.is_empty() {
+        return Ok(None);
+    }
+    TiedMesh::new(mesh, &names)
+        .map(Some)
+        .map_err(|e| err(f, format!("interface (bonded): {e}")))
 }
 
 /// A case ready for the driver, with what the summary reports of it.
@@ -666,8 +753,14 @@ fn thermal_setup<'m>(
     }))
 }
 
-/// Builds the driver's setup of a case on its mesh (interfaces declared).
-pub fn prepare<'m>(case: &Case, mesh: &'m Mesh) -> CliResult<Prepared<'m>> {
+/// Builds the driver's setup of a case on its mesh (interfaces declared);
+/// `tie` is [`tie`] of the same case and mesh (the elastic model is built on
+/// its mesh when some interface is bonded).
+pub fn prepare<'m>(
+    case: &Case,
+    mesh: &'m Mesh,
+    tie: Option<&'m TiedMesh>,
+) -> CliResult<Prepared<'m>> {
     let f = &case.source;
     let mats = materials(case, mesh)?;
     let names = mesh.region_names().to_vec();
@@ -703,7 +796,7 @@ pub fn prepare<'m>(case: &Case, mesh: &'m Mesh) -> CliResult<Prepared<'m>> {
         AnalysisName::PlaneStress => Analysis::PlaneStress,
         AnalysisName::GeneralisedPlaneStrain => Analysis::GeneralisedPlaneStrain,
     };
-    let mut model = ElasticModel::new(mesh, analysis);
+    let mut model = ElasticModel::new(tie.map_or(mesh, TiedMesh::mesh), analysis);
     for (r, m) in mats.iter().enumerate() {
         let expansion = match (m.expansion, case.thermal.is_some()) {
             (Some(a), _) => a,
@@ -749,12 +842,25 @@ pub fn prepare<'m>(case: &Case, mesh: &'m Mesh) -> CliResult<Prepared<'m>> {
             .map_err(|e| err(f, format!("mechanical.pressure[{k}].edges: {e}")))?;
     }
     let mut joints = serde_json::Map::new();
+    // index of each case interface among the model's (bonded ones are tied, not modelled)
+    let mut model_index = vec![None; case.interface.len()];
     for (k, i) in case.interface.iter().enumerate() {
         let key = format!("interface[{k}].joint ('{}')", i.name);
         let j = i
             .joint
             .as_ref()
-            .ok_or_else(|| err(f, format!("{key}: missing [interface.joint] (law = \"frictional\" | \"linear\" | \"sticking\")")))?;
+            .ok_or_else(|| err(f, format!("{key}: missing [interface.joint] (law = \"frictional\" | \"linear\" | \"sticking\" | \"bonded\")")))?;
+        if j.law == BONDED {
+            if tie.is_none_or(|t| !t.tied_interfaces().contains(&i.name)) {
+                return Err(err(
+                    f,
+                    format!("{key}: bonded, but the elastic mesh does not tie it"),
+                ));
+            }
+            joints.insert(i.name.clone(), json!({ "law": BONDED }));
+            continue;
+        }
+        model_index[k] = Some(model.interfaces().len());
         let (law, info) = joint(f, &key, j, interface_scale(mesh, &i.name, &mats))?;
         joints.insert(i.name.clone(), info);
         let normals = match j.normals.as_deref() {
@@ -819,13 +925,13 @@ pub fn prepare<'m>(case: &Case, mesh: &'m Mesh) -> CliResult<Prepared<'m>> {
     let coupled_interfaces = case
         .interface
         .iter()
-        .enumerate()
-        .filter(|(_, i)| i.conductance.is_some())
-        .map(|(k, i)| (i.name.clone(), k))
+        .zip(&model_index)
+        .filter_map(|(i, &m)| Some((i.name.clone(), m?)).filter(|_| i.conductance.is_some()))
         .collect();
     Ok(Prepared {
         setup: Setup {
             mesh,
+            tie,
             thermal,
             model,
             solver,

@@ -96,15 +96,12 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     let mut mesh = vessel_mesh(&o.geometry, &o.mesh)?;
     let case = crate::builtin::vessel_case(o, &mesh)?;
     setup::declare_interfaces(&case, &mut mesh)?;
+    let tie = setup::tie(&case, &mesh)?;
     let (outcome, pressure_only) = {
-        let p = setup::prepare(&case, &mesh)?;
+        let p = setup::prepare(&case, &mesh, tie.as_ref())?;
         let outcome = driver::run(&p.setup)?;
         let alone = match o.pressure {
-            Some(_) => Some(driver::solve_mechanical(
-                &p.setup.model,
-                p.setup.solver,
-                LoadFactors::FULL,
-            )?),
+            Some(_) => Some(driver::solve_mechanical(&p.setup, LoadFactors::FULL)?),
             None => None,
         };
         (outcome, alone)
@@ -264,21 +261,21 @@ pub fn analytical(o: &VesselOptions) -> [(&'static str, ShrinkFit); 3] {
     ]
 }
 
-/// Arc-length weighted mean contact pressure over the interface (open points count as 0).
-fn contact_pressure_mean(points: &[InterfacePointResult]) -> f64 {
-    // two points per element; nodal rule: equal weights within an element, weight by element length
-    let mut s = 0.0;
-    let mut w = 0.0;
-    for pair in points.chunks(2) {
-        if pair.len() < 2 {
-            continue;
-        }
-        let (a, b) = (pair[0].position, pair[1].position);
-        let len = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
-        s += 0.5 * len * (-pair[0].traction[1] - pair[1].traction[1]);
-        w += len;
+/// Mean contact pressure of the core/layer joint: arc-length weighted over
+/// the interface points (open points count as 0); for a bonded interface
+/// (no points) the mean of −σ_rr of the layer's nodes on the interface.
+fn contact_pressure_mean(run: &VesselRun, r: &TimeResult) -> f64 {
+    if run.options.interface == crate::builtin::InterfaceKind::Bonded {
+        let (_, layer) = bodies(&run.mesh);
+        let rc = run.options.geometry.interface_radius();
+        let nodes = ring_nodes(&run.mesh, layer, rc);
+        return -ring_mean(&run.mesh, &nodes, &|i| {
+            polar(r.stress.nodal[i], run.mesh.nodes()[i], [0.0, 0.0])[0]
+        });
     }
-    if w > 0.0 { s / w } else { 0.0 }
+    writers::interface_summary(&r.interface, 0)["contact_pressure_mean"]
+        .as_f64()
+        .unwrap_or(0.0)
 }
 
 /// The summary as JSON (SI units).
@@ -343,6 +340,7 @@ pub fn summary(run: &VesselRun) -> Value {
             "low_rank_corrected_solves": run.newton.solves.corrected,
         },
         "joint": {
+            "interface": run.options.interface.name(),
             "friction": run.options.friction,
             "cohesion": run.options.cohesion,
             "penalty_factor": run.options.penalty_factor,
@@ -369,7 +367,7 @@ pub fn summary(run: &VesselRun) -> Value {
         v["final"] = json!({
             "time": last.time,
             "hoop_mean": hoop_keys(&last.stress),
-            "contact_pressure_mean": contact_pressure_mean(&last.interface),
+            "contact_pressure_mean": contact_pressure_mean(run, last),
             "hoop_force_balance": f,
             "hoop_force_balance_relative": if fa > 0.0 { f / fa } else { 0.0 },
             "interface_points": { "open": open, "slip": slip, "total": last.interface.len() },
@@ -665,12 +663,23 @@ pub struct VesselArgs {
     /// e.g. `t1e5`); default 2.
     #[arg(long, default_value = "2")]
     pub mesh: String,
-    /// Friction coefficient μ = tan φ of the core/layer joint.
-    #[arg(long, default_value_t = 0.3)]
-    pub friction: f64,
-    /// Cohesion of the joint, Pa.
-    #[arg(long, default_value_t = 0.0)]
-    pub cohesion: f64,
+    /// Element order: 1 (3-node triangles) or 2 (6-node triangles, curved
+    /// edges on the circles). Default 1; the `paper` preset is the paper's
+    /// linear triangles unless `--order 2` is given.
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// The core/layer joint: `frictional` (the paper's: penalty contact
+    /// with Mohr–Coulomb friction), `frictionless` (μ = 0, c = 0) or
+    /// `bonded` (tied: facing nodes share their displacements, no penalty).
+    #[arg(long, default_value = "frictional")]
+    pub interface: String,
+    /// Friction coefficient μ = tan φ of the core/layer joint (frictional
+    /// only; default 0.3).
+    #[arg(long)]
+    pub friction: Option<f64>,
+    /// Cohesion of the joint, Pa (frictional only; default 0).
+    #[arg(long)]
+    pub cohesion: Option<f64>,
     /// Internal (operating) pressure applied after cooling, Pa.
     #[arg(long)]
     pub pressure: Option<f64>,
@@ -736,13 +745,41 @@ pub struct VesselArgs {
 pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
     let spec =
         crate::mesh_cmd::parse_preset(&args.mesh).map_err(|e| e.replace("--preset", "--mesh"))?;
+    let order = match args.order {
+        None => spec.order,
+        Some(o @ (1 | 2)) => o,
+        Some(o) => {
+            return Err(format!("--order {o}: expected 1 (3-node) or 2 (6-node triangles)").into());
+        }
+    };
+    let interface = crate::builtin::InterfaceKind::parse(&args.interface)?;
+    if interface != crate::builtin::InterfaceKind::Frictional {
+        for (flag, given) in [
+            ("--friction", args.friction.is_some()),
+            ("--cohesion", args.cohesion.is_some()),
+        ] {
+            if given {
+                return Err(format!(
+                    "{flag}: only with --interface frictional (this run is --interface {})",
+                    interface.name()
+                )
+                .into());
+            }
+        }
+    }
+    if interface == crate::builtin::InterfaceKind::Bonded && args.element_normals {
+        return Err("--element-normals: a bonded interface has no interface points".into());
+    }
+    let d = VesselOptions::default();
     Ok(VesselOptions {
         mesh: VesselMeshSpec {
             fused_weld: args.fused_weld,
+            order,
             ..spec
         },
-        friction: args.friction,
-        cohesion: args.cohesion,
+        interface,
+        friction: args.friction.unwrap_or(d.friction),
+        cohesion: args.cohesion.unwrap_or(d.cohesion),
         pressure: args.pressure,
         times: args.times.clone(),
         analysis: if args.free_ends {
@@ -819,6 +856,7 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
         let o = VesselOptions {
             mesh: VesselMeshSpec {
                 fused_weld: base.mesh.fused_weld,
+                order: base.mesh.order,
                 ..spec
             },
             ..base.clone()

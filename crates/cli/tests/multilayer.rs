@@ -111,6 +111,7 @@ fn one_layer_staged_reproduces_the_monolayer_driver() {
         verbose: false,
         coupling: Coupling::OneWay,
         coupled_interfaces: Vec::new(),
+        tie: None,
     };
     let mono = driver::run(&setup).unwrap();
     let a = mono.states.last().unwrap();

@@ -10,6 +10,8 @@
 //!   slips), backtracking line search, status-aware convergence, ping-pong
 //!   guard, step cut-back, augmented-Lagrangian outer loop, free-body
 //!   detection that names the body.
+//! * [`TiedMesh`]: bonded (tied) interfaces, whose facing node pairs share
+//!   their displacement unknowns (no penalty).
 //! * Stress recovery: element and nodal stresses, polar components, von Mises;
 //!   for 6-node triangles SPR per region and the ZZ indicator ([`recovery`]).
 //! * [`analytical`]: closed-form solutions used for verification.
@@ -42,6 +44,7 @@ pub mod recovery;
 mod rotation;
 mod solver;
 mod staging;
+mod tie;
 
 pub use error::{ElasticError, IterationRecord};
 pub use joint::Joint;
@@ -56,3 +59,4 @@ pub use solver::{
     SolverState, StaticSolver, StressField, nodal_displacement, polar, quadratic_stresses,
     stresses, von_mises,
 };
+pub use tie::TiedMesh;
