@@ -655,10 +655,11 @@ fn on_mesh_stress(setup: &Setup<'_>, s: StressField) -> StressField {
     let areas = mesh.areas();
     let mut add = |e: usize, v: usize| {
         if shared[map[v]] > 1 {
-            for k in 0..4 {
-                acc[v][k] += areas[e].abs() * s.element[e][k];
+            let w = areas[e].abs();
+            for (a, x) in acc[v].iter_mut().zip(&s.element[e]) {
+                *a += w * x;
             }
-            acc[v][4] += areas[e].abs();
+            acc[v][4] += w;
         }
     };
     match mesh.triangles6() {
