@@ -43,7 +43,7 @@ use tecon_thermal::{HeatBalance, InterfacePointState, ThermalError, ThermalModel
 
 use crate::driver::{
     Contact, DriverError, Outcome, Procedure, Setup, State, ThermalInfo, ThermalMode, ThermalSetup,
-    ThermalState, reference_field, run_stages,
+    ThermalState, run_stages,
 };
 
 /// Staggered two-way coupling settings.

@@ -349,7 +349,7 @@ impl FeDuplex {
         let mut mesh = crate::setup::build_mesh(&case, std::path::Path::new("."))?;
         crate::setup::declare_interfaces(&case, &mut mesh)?;
         let outcome = {
-            let mut p = crate::setup::prepare(&case, &mesh)?;
+            let mut p = crate::setup::prepare(&case, &mesh, None)?;
             let t = &self.tube;
             let dt0 = t.interference / ((1.0 + t.poisson_ratio[0]) * t.expansion[0] * t.c);
             let inner = mesh

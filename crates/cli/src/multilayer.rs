@@ -634,16 +634,20 @@ pub fn run(args: &crate::vessel::VesselArgs, n: usize) -> CliResult<Vec<String>>
         ("--study", args.study.is_some()),
         ("--conductance contact", args.conductance != "constant"),
         ("--coupling two-way", args.coupling != "one-way"),
-        ("--cohesion", args.cohesion != 0.0),
+        ("--cohesion", args.cohesion.is_some_and(|c| c != 0.0)),
+        ("--interface", args.interface != "frictional"),
+        ("--order", args.order.is_some_and(|o| o != 1)),
     ];
     if let Some((name, _)) = unsupported.iter().find(|(_, on)| *on) {
         return Err(format!("{name} is not available with --layers yet").into());
     }
     let mut o = MultilayerOptions::new(n, args.layer_thickness, args.seams.as_deref())?;
-    if !(args.friction.is_finite() && args.friction >= 0.0) {
-        return Err(format!("--friction {}: must be non-negative", args.friction).into());
+    if let Some(f) = args.friction {
+        if !(f.is_finite() && f >= 0.0) {
+            return Err(format!("--friction {f}: must be non-negative").into());
+        }
+        o.friction = f;
     }
-    o.friction = args.friction;
     o.times = args.times.clone();
     o.quiet = args.quiet;
     let run = analyse(&o)?;

@@ -15,9 +15,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 use tecon_elastic::analytical::{Cylinders, ShrinkFit};
-use tecon_elastic::{
-    Analysis, InterfaceNormals, InterfacePointResult, Material, StressField, polar,
-};
+use tecon_elastic::{Analysis, InterfaceNormals, Material, StressField, polar};
 use tecon_mesh::{Mesh, VesselMeshSpec, vessel_mesh};
 
 use crate::driver::{self, LoadFactors};
