@@ -218,6 +218,20 @@ pub fn solve_to_tolerance(
     } else {
         n_max
     };
+    // the largest n whose dense solve fits in the memory available now
+    let curves = section.curves().len();
+    let requested_max = n_max;
+    let mut n_max = n_max;
+    while n_max / 2 >= min_n(opts) && crate::memory::check(opts.method, curves, n_max).is_err() {
+        n_max /= 2;
+    }
+    let memory_note = (n_max < requested_max).then(|| {
+        format!(
+            "at most n = {n_max} per curve fits in the memory available (n = {} on {curves} curve(s) would need about {:.1} GB)",
+            2 * n_max,
+            crate::memory::dense_bytes(opts.method, curves, 2 * n_max) as f64 / 1e9
+        )
+    });
     let n0 = starting_n(section, opts).max(opts.n);
     let mut start_warning = None;
     if n0 > n_max {
@@ -230,6 +244,9 @@ pub fn solve_to_tolerance(
     let mut levels = Vec::new();
     let with_start = |mut c: Controlled| {
         if let Some(w) = &start_warning {
+            c.warnings.push(w.clone());
+        }
+        if let (false, Some(w)) = (c.converged, &memory_note) {
             c.warnings.push(w.clone());
         }
         c

@@ -167,4 +167,24 @@ pub enum SolveError {
     /// The result is not finite.
     #[error("the solution is not finite (ill-posed geometry or too few unknowns)")]
     NonFinite,
+    /// The dense system would not fit in memory (refused before allocating).
+    #[error(
+        "n = {n} per curve on {curves} boundary curve(s) is {unknowns} unknowns: the dense solve \
+         needs about {:.1} GB, more than the {:.1} GB available; use a smaller n \
+         (--n, --max-n) or a section with fewer holes",
+        *needed as f64 / 1e9,
+        *available as f64 / 1e9
+    )]
+    TooLarge {
+        /// unknowns per curve
+        n: usize,
+        /// boundary curves (1 + holes)
+        curves: usize,
+        /// total unknowns K n
+        unknowns: usize,
+        /// estimated peak bytes
+        needed: u64,
+        /// bytes available
+        available: u64,
+    },
 }

@@ -26,7 +26,9 @@ use crate::error::SolveError;
 use crate::geometry::Section;
 use crate::grading::Parametrisation;
 use crate::kernels;
-use crate::linalg::{dense_symmetric_solve, projected_pcg, threshold};
+use crate::linalg::{
+    ShiftedSolveError, dense_symmetric_solve, projected_pcg, shifted_saddle_solve, threshold,
+};
 use crate::solve::{CompressionReport, LinearSolver, Options, RawSolution};
 use rayon::prelude::*;
 use rustfft::FftPlanner;
@@ -141,8 +143,11 @@ pub fn assemble(
     let p = projection_kernel(&w, n);
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut phat);
+    // peak memory 3 N² doubles: the input, the convolved rows and their transpose
     let t = convolve_rows_transpose(&l, big, n, &phat);
+    drop(l);
     let al = convolve_rows_transpose(&t, big, n, &phat);
+    drop(t);
     let c = w.log_circulant(n);
     // A = −(C + P L Pᵀ)/2π (symmetric up to rounding; L is symmetric); C on diagonal blocks
     let mut a = al;
@@ -230,23 +235,39 @@ pub(crate) fn solve(
     let w = Daubechies::new(opts.wavelet_order)
         .ok_or_else(|| SolveError::BadWavelet(format!("db{}", opts.wavelet_order)))?;
     let n = opts.n;
-    let sys = assemble(section, params, n, w)?;
+    let mut sys = assemble(section, params, n, w.clone())?;
     let kc = sys.curves;
     let big = kc * n;
     let (alpha, c, compression) = match opts.linear {
         LinearSolver::Dense => {
-            let nn = big + kc;
-            let mut m = vec![0.0; nn * nn];
-            for i in 0..big {
-                m[i * nn..i * nn + big].copy_from_slice(&sys.matrix[i * big..(i + 1) * big]);
-                let k = i / n;
-                m[i * nn + big + k] = sys.constraint[i % n];
-                m[(big + k) * nn + i] = sys.constraint[i % n];
+            // Cholesky of the shifted matrix (kernel −(1/2π) ln(|x − y|/ρ), ρ = 4 × the
+            // largest distance of Γ from the centroid ≥ 4 × capacity: positive definite)
+            let kappa = (4.0 * section.radius()).ln() / (2.0 * PI);
+            let mut matrix = std::mem::take(&mut sys.matrix);
+            match shifted_saddle_solve(&mut matrix, n, &sys.constraint, &sys.load, kappa) {
+                Ok((x, c)) => (x, c, None),
+                Err(ShiftedSolveError::Solve(e)) => return Err(e),
+                Err(ShiftedSolveError::NotPositiveDefinite { .. }) => {
+                    // rounding broke positive definiteness: the indefinite LBLᵀ of the
+                    // augmented system (reassembled: the factor overwrote the matrix)
+                    drop(matrix);
+                    let again = assemble(section, params, n, w)?;
+                    let nn = big + kc;
+                    let mut m = vec![0.0; nn * nn];
+                    for i in 0..big {
+                        m[i * nn..i * nn + big]
+                            .copy_from_slice(&again.matrix[i * big..(i + 1) * big]);
+                        let k = i / n;
+                        m[i * nn + big + k] = sys.constraint[i % n];
+                        m[(big + k) * nn + i] = sys.constraint[i % n];
+                    }
+                    drop(again);
+                    let mut rhs = sys.load.clone();
+                    rhs.resize(nn, 0.0);
+                    let sol = dense_symmetric_solve(nn, &m, &rhs)?;
+                    (sol[..big].to_vec(), sol[big..].to_vec(), None)
+                }
             }
-            let mut rhs = sys.load.clone();
-            rhs.resize(nn, 0.0);
-            let sol = dense_symmetric_solve(nn, &m, &rhs)?;
-            (sol[..big].to_vec(), sol[big..].to_vec(), None)
         }
         LinearSolver::Compressed { eps, tol } => {
             if kc > 1 {

@@ -67,6 +67,7 @@ pub mod geometry;
 pub mod grading;
 pub mod kernels;
 pub mod linalg;
+pub mod memory;
 pub mod nystrom;
 pub mod polyline;
 pub mod quadrature;

@@ -188,6 +188,8 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
         });
     }
     let curves = section.curves();
+    // refuse what cannot fit before anything of size n² is allocated
+    crate::memory::check(opts.method, curves.len(), opts.n)?;
     let params: Vec<Parametrisation> = curves
         .iter()
         .map(|c| Parametrisation::new(c, opts.grading))
