@@ -13,7 +13,8 @@
 //!
 //! When every seam lies on the plane y = 0 (θ = 0 or π) the section is
 //! symmetric and only the half θ ∈ [0, π] is meshed (edge and node sets
-//! `sym0`, `sym180`); otherwise the full ring is meshed.
+//! `sym0`, `sym180`) unless [`MultilayerMeshSpec::full_section`] asks for
+//! the whole ring; otherwise the full ring is meshed.
 //!
 //! All rings share one set of node stations around the circumference, so
 //! facing interface nodes coincide. The stations put every weld edge of every
@@ -165,6 +166,9 @@ pub struct MultilayerMeshSpec {
     pub max_interval: f64,
     /// Element order, 1 or 2.
     pub order: usize,
+    /// Mesh the full ring even when every seam lies on y = 0 (by default
+    /// such a section is meshed as the half θ ∈ [0, π]).
+    pub full_section: bool,
 }
 
 impl Default for MultilayerMeshSpec {
@@ -178,11 +182,18 @@ impl Default for MultilayerMeshSpec {
             growth: 1.3,
             max_interval: 3f64.to_radians(),
             order: 1,
+            full_section: false,
         }
     }
 }
 
 impl MultilayerMeshSpec {
+    /// Whether `geo` is meshed as the half section θ ∈ [0, π] (every seam on
+    /// y = 0 and no full section asked for).
+    pub fn half_section(&self, geo: &MultilayerGeometry) -> bool {
+        geo.is_symmetric() && !self.full_section
+    }
+
     fn check(&self) -> Result<(), MeshError> {
         let bad = |name: &'static str, value: String, reason: &str| {
             Err(MeshError::InvalidParameter {
@@ -265,7 +276,7 @@ pub fn multilayer_station_angles(
 ) -> Result<Vec<f64>, MeshError> {
     geo.check()?;
     spec.check()?;
-    let half = geo.is_symmetric();
+    let half = spec.half_section(geo);
     let end = if half { PI } else { 2.0 * PI };
     // weld zones [a, b] of every layer, unrolled onto the domain
     let mut zones = Vec::new();
@@ -330,7 +341,7 @@ pub fn multilayer_triangles(
     spec: &MultilayerMeshSpec,
 ) -> Result<usize, MeshError> {
     let st = multilayer_station_angles(geo, spec)?;
-    let intervals = if geo.is_symmetric() {
+    let intervals = if spec.half_section(geo) {
         st.len() - 1
     } else {
         st.len()
@@ -371,7 +382,7 @@ pub fn multilayer_stage_mesh(
             reason: format!("a stage has 1 to {} layers", geo.layers.len()),
         });
     }
-    let half = geo.is_symmetric();
+    let half = spec.half_section(geo);
     let ns = theta.len();
     let intervals = if half { ns - 1 } else { ns };
     let radii = geo.radii();

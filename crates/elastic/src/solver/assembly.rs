@@ -477,12 +477,59 @@ impl StaticSolver<'_> {
         &self,
         u: &[f64],
         committed: &[PointStates],
+        kt: Option<&mut CsrMatrix>,
+        f_int: &mut [f64],
+    ) -> Result<(), ElasticError> {
+        self.add_interfaces_with(&self.laws, u, committed, kt, f_int)
+    }
+
+    /// The tangent at `u` with a shear stiffness `weight · k_s` added at
+    /// every slipping Mohr–Coulomb point, `K_t + weight (K_stick − K_t)`
+    /// (K_stick: every point sticking, the same normal law): the fallback
+    /// Newton matrix when the true tangent has lost a body's rigid mode
+    /// because every joint point holding the body slips (frozen limits
+    /// give slipping points no shear stiffness) or is open. Positive
+    /// definite wherever closed points hold the body, so its step is a
+    /// descent direction of the energy; the residual and the line search
+    /// stay on the true law, so the converged answer does not depend on it.
+    pub(super) fn slip_stabilised_tangent(
+        &self,
+        u: &[f64],
+        committed: &[PointStates],
+        weight: f64,
+    ) -> Result<CsrMatrix, ElasticError> {
+        let laws: Vec<Joint> = self
+            .laws
+            .iter()
+            .map(|l| match l {
+                Joint::Frictional(m) => tecon_contact::ElasticJoint::new(*m.normal_law(), m.k_s())
+                    .map(Joint::Sticking)
+                    .map_err(|e| FemError::Solver(format!("stick tangent: {e}")).into()),
+                other => Ok(other.clone()),
+            })
+            .collect::<Result<_, ElasticError>>()?;
+        let mut f = vec![0.0; u.len()];
+        let mut stick = self.k_bulk.clone();
+        self.add_interfaces_with(&laws, u, committed, Some(&mut stick), &mut f)?;
+        let mut kt = self.k_bulk.clone();
+        self.add_interfaces_with(&self.laws, u, committed, Some(&mut kt), &mut f)?;
+        for (a, b) in kt.values_mut().iter_mut().zip(stick.values()) {
+            *a += weight * (b - *a);
+        }
+        Ok(kt)
+    }
+
+    fn add_interfaces_with(
+        &self,
+        laws: &[Joint],
+        u: &[f64],
+        committed: &[PointStates],
         mut kt: Option<&mut CsrMatrix>,
         f_int: &mut [f64],
     ) -> Result<(), ElasticError> {
         for (k, itf) in self.model.interfaces.iter().enumerate() {
             let block = self.interface_blocks[k];
-            let law = &self.laws[k];
+            let law = &laws[k];
             if itf.is_quadratic() {
                 let set = InterfaceSet::<_, 6, 3> {
                     nodes: &itf.quadratic_nodes,

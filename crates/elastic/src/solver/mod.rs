@@ -406,7 +406,17 @@ impl<'a> StaticSolver<'a> {
             // a tangent that differs from the factorised one only where a
             // few interface points changed branch is solved by a low-rank
             // correction of the old factor
-            c.solve(kt, rhs)?;
+            if let Err(e) = c.solve(kt, rhs) {
+                // a tangent that lost positive definiteness mid-solve (an
+                // interface that opened or slipped everywhere can leave a
+                // body held by nothing): name the free body if there is one
+                if let (tecon_fem::FemError::NotPositiveDefinite { .. }, Err(free)) =
+                    (&e, check_rigid_modes(kt, &self.modes))
+                {
+                    return Err(free.into());
+                }
+                return Err(e.into());
+            }
         } else {
             let l = match &mut self.lu {
                 Some(l) => l,

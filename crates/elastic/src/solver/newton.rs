@@ -103,7 +103,29 @@ impl StaticSolver<'_> {
                 }
             }
             let symmetric = counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
-            self.solve(&kt, &mut du, symmetric)?;
+            match self.solve(&kt, &mut du, symmetric) {
+                Err(ElasticError::Fem(FemError::Unconstrained { .. }))
+                    if symmetric && self.has_friction() =>
+                {
+                    // Every joint point holding a body slips or is open at
+                    // this iterate (a full ring held only by its
+                    // interface): the energy is linear along the body's
+                    // rigid mode up to the next kink. This step uses a
+                    // weak shear stiffness at the slipping points, so it
+                    // moves far along the mode and the line search (on the
+                    // true energy) stops it at the kink; the next tangent
+                    // has a sticking point again. A body that stays free
+                    // with it fails below, named.
+                    // (the failed factorisation may have left the factor unusable)
+                    self.cholesky = None;
+                    let mut ks = self.slip_stabilised_tangent(&u, committed, SLIP_STABILISATION)?;
+                    self.rotations.rotate_matrix(&mut ks);
+                    du.clone_from(&r);
+                    self.prepared.apply_scaled(&mut ks, &mut du, 0.0);
+                    self.solve(&ks, &mut du, true)?;
+                }
+                other => other?,
+            }
             let du_rotated = du.clone();
             self.rotations.unrotate_vector(&mut du);
             let step = if symmetric {
@@ -145,6 +167,11 @@ impl StaticSolver<'_> {
         ))
     }
 }
+
+/// Shear stiffness of slipping joint points, as a fraction of k_s, in the
+/// fallback tangent of an iterate where a body is held by slipping points
+/// only (see [`StaticSolver::slip_stabilised_tangent`]).
+const SLIP_STABILISATION: f64 = 1e-6;
 
 /// Safety factor of the round-off floor over `ε · ‖ |K| |u| + |f| ‖` (the
 /// error of a sum of n terms grows like √n ε in practice, n ≤ ~30 per row
