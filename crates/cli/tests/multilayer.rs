@@ -49,6 +49,50 @@ fn two_layers_match_the_sequential_fit_after_each_cooling() {
     assert!(worst < 0.01, "{worst}");
 }
 
+/// Worst relative error of the ring means against the sequential fit over
+/// every stage, printing each.
+fn worst_ring_error(run: &tecon_cli::multilayer::MultilayerRun) -> f64 {
+    let mut worst: f64 = 0.0;
+    for st in &run.stages {
+        let k = st.layers;
+        for r in 0..=k {
+            let an = run.fit.mean_hoop(k, r);
+            let err = ((st.ring_means[r] - an) / an).abs();
+            eprintln!(
+                "stage {k} ring {r}: FE {:.5} MPa, fit {:.5} MPa, {err:.2e}",
+                st.ring_means[r] / 1e6,
+                an / 1e6
+            );
+            worst = worst.max(err);
+        }
+        eprintln!(
+            "stage {k}: {} Newton iterations, {} thermal steps",
+            st.newton_iterations, st.thermal_steps
+        );
+    }
+    worst
+}
+
+/// A full ring: seams 0° and 90°, each layer held in rotation by friction
+/// alone, after every stage's whole cooling transient. Contact solved at
+/// 60 s (the hot weld) and 72 000 s only, to stay fast (with the six
+/// default output times the run takes 23 s in the test profile).
+#[test]
+fn two_layers_full_ring_match_the_sequential_fit() {
+    let mut o = MultilayerOptions::new(2, 6.4e-3, Some(&[0.0, 90.0])).unwrap();
+    o.quiet = true;
+    o.times = vec![60.0, 72000.0];
+    assert!(!o.half_section());
+    let run = analyse(&o).unwrap();
+    let worst = worst_ring_error(&run);
+    eprintln!(
+        "2 layers, full ring (seams 0°/90°, {} triangles): worst {worst:.3e}, {:.1} s",
+        run.mesh.n_triangles(),
+        run.seconds
+    );
+    assert!(worst < 0.01, "{worst}");
+}
+
 #[test]
 fn one_layer_staged_reproduces_the_monolayer_driver() {
     let mut o = MultilayerOptions::new(1, 6.4e-3, None).unwrap();
@@ -152,11 +196,41 @@ fn bad_layer_input_is_named() {
         (2, 0.0, None, "thickness"),
         (2, 6.4e-3, Some(vec![0.0]), "--seams"),
         (2, 6.4e-3, Some(vec![0.0, 400.0]), "400"),
-        (3, 6.4e-3, Some(vec![0.0, 120.0, 240.0]), "full section"),
+        (2, 6.4e-3, Some(vec![0.0, -90.0]), "-90"),
+        (2, -1e-3, None, "thickness"),
     ] {
         let e = MultilayerOptions::new(n, t, seams.as_deref())
             .unwrap_err()
             .to_string();
         assert!(e.contains(what), "{e}");
     }
+}
+
+/// `n` layers with the default, evenly staggered seams (full ring), the
+/// default mesh, contact solved at 60 s and at the end of each cooling.
+fn staggered(n: usize) -> (f64, usize, f64) {
+    let mut o = MultilayerOptions::new(n, 6.4e-3, None).unwrap();
+    o.quiet = true;
+    o.times = vec![60.0, 72000.0];
+    assert!(!o.half_section());
+    let run = analyse(&o).unwrap();
+    let worst = worst_ring_error(&run);
+    eprintln!(
+        "{n} layers, staggered seams ({} triangles): worst {worst:.3e}, {:.1} s",
+        run.mesh.n_triangles(),
+        run.seconds
+    );
+    (worst, run.mesh.n_triangles(), run.seconds)
+}
+
+#[test]
+fn three_staggered_layers_match_the_sequential_fit() {
+    let (worst, _, _) = staggered(3);
+    assert!(worst < 0.01, "{worst}");
+}
+
+#[test]
+fn five_staggered_layers_match_the_sequential_fit() {
+    let (worst, _, _) = staggered(5);
+    assert!(worst < 0.01, "{worst}");
 }
