@@ -11,6 +11,9 @@
 //!     time from the previous converged state
 //!   → per stage: hoop stress through the wall (circumferential means),
 //!     pressure of every interface around the circumference, VTK, summary
+//! optional last stage (--pressure P): the internal pressure P on the bore,
+//!   temperatures held; closed form: the prestress plus the Lamé field of
+//!   the whole wall under P (the joints stay closed)
 //! ```
 //!
 //! The thermal strain of an element is α (T_e − T_ref,e) with T_ref,e its
@@ -25,7 +28,7 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 use tecon_contact::{GhaboussiNormal, PaperJoint};
-use tecon_elastic::analytical::{Cylinders, SequentialShrinkFit};
+use tecon_elastic::analytical::{Cylinders, LameCylinder, SequentialShrinkFit};
 use tecon_elastic::{
     Analysis, ElasticModel, InterfacePointResult, Joint, Loads, Material, SolverOptions,
     SolverState, StaticSolver, polar,
@@ -56,6 +59,10 @@ pub struct MultilayerOptions {
     /// None: 1 on a half section (the paper's k_s = k_n) and
     /// [`FULL_RING_SHEAR_RATIO`] on a full ring.
     pub shear_ratio: Option<f64>,
+    /// Internal pressure of a last stage after the last layer has cooled
+    /// (hydrostatic test or operating pressure), Pa on the bore; the
+    /// temperatures stay where the last cooling left them.
+    pub pressure: Option<f64>,
     /// No progress output.
     pub quiet: bool,
 }
@@ -91,6 +98,7 @@ impl MultilayerOptions {
             friction: 0.3,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
             shear_ratio: None,
+            pressure: None,
             quiet: false,
         })
     }
@@ -126,8 +134,17 @@ pub const FULL_RING_SHEAR_RATIO: f64 = 1e-3;
 /// What one stage left.
 #[derive(Debug, Clone)]
 pub struct StageResult {
-    /// Layers wrapped (the stage number).
+    /// Layers wrapped by the end of the stage.
     pub layers: usize,
+    /// Internal pressure of the stage, Pa (0 for a layer stage).
+    pub pressure: f64,
+    /// The closed form of each ring's mean hoop stress (0 = core; the
+    /// rings not wrapped yet carry 0), Pa: the sequential shrink fit after
+    /// the stage's layers, plus for a pressure stage the Lamé field of the
+    /// whole wall under the pressure (the joints stay closed).
+    pub analytical_means: Vec<f64>,
+    /// The closed form of each active interface's contact pressure, Pa.
+    pub analytical_pressures: Vec<f64>,
     /// The state at the end of the stage's cooling (whole mesh; the
     /// inactive layers at zero).
     pub state: State,
@@ -216,6 +233,53 @@ pub fn stage_thermal_model<'m>(
         m.set_initial_node(v, t)?;
     }
     Ok(m)
+}
+
+/// The Lamé cylinder of the whole wall (bore to the outer surface of the
+/// last layer) under the internal pressure `p`.
+pub fn wall_lame(o: &MultilayerOptions, p: f64) -> LameCylinder {
+    let r = o.geometry.radii();
+    LameCylinder {
+        a: r[0],
+        b: r[r.len() - 1],
+        p,
+        e: o.data.youngs_modulus,
+        nu: o.data.poisson_ratio,
+    }
+}
+
+/// The closed forms after `k` layers (and the pressure `p` on the whole
+/// wall, 0 for none): ring means and contact pressures (see
+/// [`StageResult::analytical_means`]).
+fn closed_form(
+    o: &MultilayerOptions,
+    fit: &SequentialShrinkFit,
+    k: usize,
+    p: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let r = o.geometry.radii();
+    let lame = wall_lame(o, p);
+    let n = o.geometry.layers.len();
+    let means = (0..=n)
+        .map(|ring| {
+            if ring > k {
+                return 0.0;
+            }
+            // (1/t) ∫ (A + B/r²) dr = A + B/(r₁ r₂), A, B of the Lamé field
+            let (r1, r2) = (r[ring], r[ring + 1]);
+            let b = (lame.sigma_tt(r1) - lame.sigma_tt(r2)) / (1.0 / (r1 * r1) - 1.0 / (r2 * r2));
+            let a = lame.sigma_tt(r1) - b / (r1 * r1);
+            let pressure_part = if p == 0.0 { 0.0 } else { a + b / (r1 * r2) };
+            fit.mean_hoop(k, ring) + pressure_part
+        })
+        .collect();
+    let pressures = (1..=k)
+        .map(|j| {
+            let pressure_part = if p == 0.0 { 0.0 } else { -lame.sigma_rr(r[j]) };
+            fit.contact_pressure(k, j) + pressure_part
+        })
+        .collect();
+    (means, pressures)
 }
 
 /// The elastic model of stage `k` on the whole mesh.
@@ -363,14 +427,65 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             .map(|r| ring_mean(&mesh, &state.stress.element, r))
             .collect();
         let pressures = (0..k).map(|j| mean_pressure(&state.interface, j)).collect();
+        let (analytical_means, analytical_pressures) = closed_form(o, &fit, k, 0.0);
         stages.push(StageResult {
             layers: k,
+            pressure: 0.0,
+            analytical_means,
+            analytical_pressures,
             state,
             ring_means,
             pressures,
             newton_iterations: newton,
             thermal_steps: summary.steps,
             heat_balance: summary.max_balance_residual,
+        });
+    }
+    if let Some(p) = o.pressure {
+        if !o.quiet {
+            eprintln!("stage {}/{}: internal pressure {p:e} Pa", n + 1, n + 1);
+        }
+        let last = stages.last().ok_or("no layer stage")?;
+        let model = stage_elastic_model(o, &mesh, n, &references)?.pressure("inner", p)?;
+        let mut solver = StaticSolver::new(&model, solver_options)?;
+        // the pressure is new: it starts from factor 0
+        previous.loads.pressure = 0.0;
+        solver.resume(&previous)?;
+        let delta_t = previous.loads.delta_t.clone();
+        let reports = solver
+            .advance(&Loads {
+                delta_t,
+                ..Loads::mechanical()
+            })
+            .map_err(|e| format!("pressure stage: contact: {e}"))?;
+        let newton = reports.iter().map(|r| r.iterations).sum::<usize>();
+        let state = State {
+            time: last.state.time,
+            stage: n,
+            displacement: solver.displacement().to_vec(),
+            eps_zz: solver.eps_zz(),
+            stress: solver.stresses(),
+            interface: solver.interface_results(),
+            max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
+            max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
+            ..last.state.clone()
+        };
+        let ring_means = (0..=n)
+            .map(|r| ring_mean(&mesh, &state.stress.element, r))
+            .collect();
+        let pressures = (0..n).map(|j| mean_pressure(&state.interface, j)).collect();
+        let (analytical_means, analytical_pressures) = closed_form(o, &fit, n, p);
+        stages.push(StageResult {
+            layers: n,
+            pressure: p,
+            analytical_means,
+            analytical_pressures,
+            state,
+            ring_means,
+            pressures,
+            newton_iterations: newton,
+            thermal_steps: 0,
+            heat_balance: 0.0,
         });
     }
     Ok(MultilayerRun {
@@ -437,9 +552,12 @@ pub fn mean_pressure(points: &[InterfacePointResult], index: usize) -> f64 {
 
 /// Hoop-stress rows through the wall after stage `k`: per ring and node
 /// row, (ring, r, circumferential mean of the nodal σ_θθ, model).
-fn hoop_rows(run: &MultilayerRun, k: usize) -> Vec<Vec<f64>> {
+fn hoop_rows(run: &MultilayerRun, stage: usize) -> Vec<Vec<f64>> {
     let mesh = &run.mesh;
-    let s = &run.stages[k - 1].state.stress;
+    let st = &run.stages[stage - 1];
+    let s = &st.state.stress;
+    let k = st.layers;
+    let lame = wall_lame(&run.options, st.pressure);
     let radii = run.options.geometry.radii();
     let mut rows = Vec::new();
     for ring in 0..=k {
@@ -471,18 +589,29 @@ fn hoop_rows(run: &MultilayerRun, k: usize) -> Vec<Vec<f64>> {
                 }
             }
             let mean = if cnt > 0.0 { sum / cnt } else { f64::NAN };
-            rows.push(vec![ring as f64, r, mean, run.fit.sigma_tt(k, ring, r)]);
+            let pressure_part = if st.pressure == 0.0 {
+                0.0
+            } else {
+                lame.sigma_tt(r)
+            };
+            rows.push(vec![
+                ring as f64,
+                r,
+                mean,
+                run.fit.sigma_tt(k, ring, r) + pressure_part,
+            ]);
         }
     }
     rows
 }
 
-/// The summary of one stage as JSON (SI units).
-pub fn stage_summary(run: &MultilayerRun, k: usize) -> Value {
-    let st = &run.stages[k - 1];
+/// The summary of stage `stage` (1-based) as JSON (SI units).
+pub fn stage_summary(run: &MultilayerRun, stage: usize) -> Value {
+    let st = &run.stages[stage - 1];
+    let k = st.layers;
     let rings: Vec<Value> = (0..=k)
         .map(|r| {
-            let (fe, an) = (st.ring_means[r], run.fit.mean_hoop(k, r));
+            let (fe, an) = (st.ring_means[r], st.analytical_means[r]);
             json!({
                 "ring": if r == 0 { "core".to_string() } else { format!("layer{r}") },
                 "mean_hoop_fe": fe,
@@ -493,7 +622,7 @@ pub fn stage_summary(run: &MultilayerRun, k: usize) -> Value {
         .collect();
     let interfaces: Vec<Value> = (1..=k)
         .map(|j| {
-            let (fe, an) = (st.pressures[j - 1], run.fit.contact_pressure(k, j));
+            let (fe, an) = (st.pressures[j - 1], st.analytical_pressures[j - 1]);
             json!({
                 "interface": interface_name(j),
                 "mean_pressure_fe": fe,
@@ -503,8 +632,10 @@ pub fn stage_summary(run: &MultilayerRun, k: usize) -> Value {
         })
         .collect();
     json!({
-        "stage": k,
+        "stage": stage,
+        "kind": if st.pressure == 0.0 { "layer" } else { "pressure" },
         "layers_active": k,
+        "internal_pressure": st.pressure,
         "rings": rings,
         "interfaces": interfaces,
         "newton_iterations": st.newton_iterations,
@@ -522,9 +653,7 @@ pub fn summary(run: &MultilayerRun) -> Value {
         .iter()
         .flat_map(|s| {
             (0..=s.layers).map(move |r| {
-                ((s.ring_means[r] - run.fit.mean_hoop(s.layers, r))
-                    / run.fit.mean_hoop(s.layers, r))
-                .abs()
+                ((s.ring_means[r] - s.analytical_means[r]) / s.analytical_means[r]).abs()
             })
         })
         .fold(0.0, f64::max);
@@ -538,6 +667,7 @@ pub fn summary(run: &MultilayerRun) -> Value {
                 "seam_angle_deg": l.seam_angle.to_degrees(),
             })).collect::<Vec<_>>(),
             "half_section": run.options.half_section(),
+            "internal_pressure": run.options.pressure,
             "shear_penalty_ratio": run.options.effective_shear_ratio(),
         },
         "mesh": { "triangles": run.mesh.n_triangles(), "nodes": run.mesh.n_nodes() },
@@ -612,16 +742,23 @@ pub fn report(run: &MultilayerRun) -> String {
         },
         run.seconds
     );
-    for st in &run.stages {
+    for (i, st) in run.stages.iter().enumerate() {
         let k = st.layers;
+        let what = if st.pressure == 0.0 {
+            format!("layer {k} welded")
+        } else {
+            format!("internal pressure {:.3} MPa", st.pressure / 1e6)
+        };
         s += &format!(
-            "stage {k}: {} Newton iterations, {} thermal steps\n",
-            st.newton_iterations, st.thermal_steps
+            "stage {} ({what}): {} Newton iterations, {} thermal steps\n",
+            i + 1,
+            st.newton_iterations,
+            st.thermal_steps
         );
         for r in 0..=k {
-            let an = run.fit.mean_hoop(k, r);
+            let an = st.analytical_means[r];
             s += &format!(
-                "  {:>7} mean hoop {:>9.4} MPa (sequential fit {:>9.4} MPa, {:+.2} %)\n",
+                "  {:>7} mean hoop {:>9.4} MPa (closed form {:>9.4} MPa, {:+.2} %)\n",
                 if r == 0 {
                     "core".into()
                 } else {
@@ -633,9 +770,9 @@ pub fn report(run: &MultilayerRun) -> String {
             );
         }
         for j in 1..=k {
-            let an = run.fit.contact_pressure(k, j);
+            let an = st.analytical_pressures[j - 1];
             s += &format!(
-                "  {:>13} mean pressure {:.5} MPa (sequential fit {:.5} MPa)\n",
+                "  {:>13} mean pressure {:.5} MPa (closed form {:.5} MPa)\n",
                 interface_name(j),
                 st.pressures[j - 1] / 1e6,
                 an / 1e6
@@ -648,7 +785,6 @@ pub fn report(run: &MultilayerRun) -> String {
 /// `tecon vessel --layers N …`: builds the options, runs, writes, reports.
 pub fn run(args: &crate::vessel::VesselArgs, n: usize) -> CliResult<Vec<String>> {
     let unsupported = [
-        ("--pressure", args.pressure.is_some()),
         ("--fused-weld", args.fused_weld),
         ("--free-ends", args.free_ends),
         ("--penalty-only", args.penalty_only),
@@ -672,6 +808,12 @@ pub fn run(args: &crate::vessel::VesselArgs, n: usize) -> CliResult<Vec<String>>
     }
     o.times = args.times.clone();
     o.quiet = args.quiet;
+    if let Some(p) = args.pressure {
+        if !(p.is_finite() && p > 0.0) {
+            return Err(format!("--pressure {p}: must be a positive pressure in Pa").into());
+        }
+        o.pressure = Some(p);
+    }
     let run = analyse(&o)?;
     let names = write_outputs(&run, &args.out)?;
     print!("{}", report(&run));
