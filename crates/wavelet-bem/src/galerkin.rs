@@ -26,9 +26,7 @@ use crate::error::SolveError;
 use crate::geometry::Section;
 use crate::grading::Parametrisation;
 use crate::kernels;
-use crate::linalg::{
-    ShiftedSolveError, dense_symmetric_solve, projected_pcg, shifted_saddle_solve, threshold,
-};
+use crate::linalg::{projected_pcg, shifted_saddle_solve, threshold};
 use crate::solve::{CompressionReport, LinearSolver, Options, RawSolution};
 use rayon::prelude::*;
 use rustfft::FftPlanner;
@@ -235,39 +233,16 @@ pub(crate) fn solve(
     let w = Daubechies::new(opts.wavelet_order)
         .ok_or_else(|| SolveError::BadWavelet(format!("db{}", opts.wavelet_order)))?;
     let n = opts.n;
-    let mut sys = assemble(section, params, n, w.clone())?;
+    let mut sys = assemble(section, params, n, w)?;
     let kc = sys.curves;
-    let big = kc * n;
     let (alpha, c, compression) = match opts.linear {
         LinearSolver::Dense => {
-            // Cholesky of the shifted matrix (kernel −(1/2π) ln(|x − y|/ρ), ρ = 4 × the
-            // largest distance of Γ from the centroid ≥ 4 × capacity: positive definite)
+            // the shifted matrix (kernel −(1/2π) ln(|x − y|/ρ), ρ = 4 × the largest
+            // distance of Γ from the centroid ≥ 4 × capacity): Cholesky, else LU
             let kappa = (4.0 * section.radius()).ln() / (2.0 * PI);
             let mut matrix = std::mem::take(&mut sys.matrix);
-            match shifted_saddle_solve(&mut matrix, n, &sys.constraint, &sys.load, kappa) {
-                Ok((x, c)) => (x, c, None),
-                Err(ShiftedSolveError::Solve(e)) => return Err(e),
-                Err(ShiftedSolveError::NotPositiveDefinite { .. }) => {
-                    // rounding broke positive definiteness: the indefinite LBLᵀ of the
-                    // augmented system (reassembled: the factor overwrote the matrix)
-                    drop(matrix);
-                    let again = assemble(section, params, n, w)?;
-                    let nn = big + kc;
-                    let mut m = vec![0.0; nn * nn];
-                    for i in 0..big {
-                        m[i * nn..i * nn + big]
-                            .copy_from_slice(&again.matrix[i * big..(i + 1) * big]);
-                        let k = i / n;
-                        m[i * nn + big + k] = sys.constraint[i % n];
-                        m[(big + k) * nn + i] = sys.constraint[i % n];
-                    }
-                    drop(again);
-                    let mut rhs = sys.load.clone();
-                    rhs.resize(nn, 0.0);
-                    let sol = dense_symmetric_solve(nn, &m, &rhs)?;
-                    (sol[..big].to_vec(), sol[big..].to_vec(), None)
-                }
-            }
+            let (x, c) = shifted_saddle_solve(&mut matrix, n, &sys.constraint, &sys.load, kappa)?;
+            (x, c, None)
         }
         LinearSolver::Compressed { eps, tol } => {
             if kc > 1 {

@@ -173,19 +173,6 @@ pub fn projected_pcg(
     Ok((x, c, it, rel))
 }
 
-/// Why [`shifted_saddle_solve`] could not factorise.
-#[derive(Debug)]
-pub enum ShiftedSolveError {
-    /// the shifted matrix has a non-positive Cholesky pivot (rounding on an
-    /// extremely ill-conditioned system): the caller falls back to LBLᵀ
-    NotPositiveDefinite {
-        /// index of the failed pivot
-        pivot: usize,
-    },
-    /// any other failure
-    Solve(SolveError),
-}
-
 /// Solves the augmented symmetric system of K curves with `n` unknowns each
 /// (order N = K n),
 ///
@@ -194,25 +181,27 @@ pub enum ShiftedSolveError {
 /// ```
 ///
 /// E_k the vector `e` on block k and zero elsewhere, without forming the
-/// indefinite augmented matrix. Since Σ_k E_kᵀ x = 0, adding κ E Eᵀ
-/// (E = Σ_k E_k) to A changes nothing at the solution; for the Galerkin
-/// matrix of the single layer with the kernel −(1/2π) ln|x − y|, κ E Eᵀ with
-/// κ = ln(ρ)/2π is the Galerkin matrix of the constant kernel ln(ρ)/2π, so
-/// A + κ E Eᵀ is the Galerkin matrix of −(1/2π) ln(|x − y|/ρ), positive
-/// definite whenever the logarithmic capacity of Γ is below ρ. The shifted
-/// matrix is factorised by Cholesky (faer, blocked, in place, half the work
-/// of LU), and the K multipliers follow from the K × K Schur complement
-/// S = Eᵀ B⁻¹ E: c = S⁻¹ Eᵀ B⁻¹ f, x = B⁻¹ (f − E c).
+/// augmented matrix. Since Σ_k E_kᵀ x = 0, adding κ E Eᵀ (E = Σ_k E_k) to A
+/// changes nothing at the solution; for the Galerkin matrix of the single
+/// layer with the kernel −(1/2π) ln|x − y|, κ E Eᵀ with κ = ln(ρ)/2π is the
+/// Galerkin matrix of the constant kernel ln(ρ)/2π, so B = A + κ E Eᵀ
+/// discretises −(1/2π) ln(|x − y|/ρ), positive definite whenever the
+/// logarithmic capacity of Γ is below ρ. B is factorised by Cholesky (faer,
+/// blocked, in place); the discrete matrix of a graded polygon can still have
+/// a few small negative eigenvalues (the smooth kernel part is interpolated,
+/// and it is not smooth at a graded corner: −0.08/n on the equilateral
+/// triangle), and then Cholesky stops at a non-positive pivot and a copy of
+/// B is factorised by partial-pivoting LU instead. The K multipliers follow from the K × K
+/// Schur complement S = Eᵀ B⁻¹ E: c = S⁻¹ Eᵀ B⁻¹ f, x = B⁻¹ (f − E c).
 ///
-/// `a` (row-major N × N, symmetric) is overwritten by the factor. Returns
-/// (x, c).
+/// `a` (row-major N × N, symmetric) is overwritten. Returns (x, c).
 pub fn shifted_saddle_solve(
     a: &mut [f64],
     n: usize,
     e: &[f64],
     f: &[f64],
     kappa: f64,
-) -> Result<(Vec<f64>, Vec<f64>), ShiftedSolveError> {
+) -> Result<(Vec<f64>, Vec<f64>), SolveError> {
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::linalg::cholesky::llt;
     use rayon::prelude::*;
@@ -226,45 +215,51 @@ pub fn shifted_saddle_solve(
             *v += ei * e[j % n];
         }
     });
+    // kept for the LU fallback (faer's Cholesky may use the other triangle too)
+    let backup = Mat::<f64>::from_fn(big, big, |i, j| a[j * big + i]);
     let par = faer::get_global_parallelism();
-    // a symmetric row-major matrix is its own column-major storage
-    let mut m = faer::MatMut::from_column_major_slice_mut(a, big, big);
-    let scratch = llt::factor::cholesky_in_place_scratch::<f64>(big, par, Default::default());
-    let mut buf = MemBuffer::new(scratch);
-    if let Err(llt::factor::LltError::NonPositivePivot { index }) = llt::factor::cholesky_in_place(
-        m.as_mut(),
-        Default::default(),
-        par,
-        MemStack::new(&mut buf),
-        Default::default(),
-    ) {
-        return Err(ShiftedSolveError::NotPositiveDefinite { pivot: index });
-    }
     // right-hand sides: f, E_0, …, E_{K−1}
     let mut rhs = Mat::<f64>::zeros(big, kc + 1);
     for i in 0..big {
         rhs[(i, 0)] = f[i];
         rhs[(i, 1 + i / n)] = e[i % n];
     }
-    let mut sbuf = MemBuffer::new(llt::solve::solve_in_place_scratch::<f64>(big, kc + 1, par));
-    llt::solve::solve_in_place(m.as_ref(), rhs.as_mut(), par, MemStack::new(&mut sbuf));
+    // a symmetric row-major matrix is its own column-major storage
+    let mut m = faer::MatMut::from_column_major_slice_mut(a, big, big);
+    let scratch = llt::factor::cholesky_in_place_scratch::<f64>(big, par, Default::default());
+    let mut buf = MemBuffer::new(scratch);
+    let chol = llt::factor::cholesky_in_place(
+        m.as_mut(),
+        Default::default(),
+        par,
+        MemStack::new(&mut buf),
+        Default::default(),
+    );
+    drop(buf);
+    let y = match chol {
+        Ok(_) => {
+            let mut sbuf =
+                MemBuffer::new(llt::solve::solve_in_place_scratch::<f64>(big, kc + 1, par));
+            llt::solve::solve_in_place(m.as_ref(), rhs.as_mut(), par, MemStack::new(&mut sbuf));
+            rhs
+        }
+        Err(_) => backup.partial_piv_lu().solve(&rhs),
+    };
     // Schur complement S_kl = E_kᵀ B⁻¹ E_l and r_k = E_kᵀ B⁻¹ f
     let s = Mat::<f64>::from_fn(kc, kc, |k, l| {
-        (0..n).map(|j| e[j] * rhs[(k * n + j, 1 + l)]).sum()
+        (0..n).map(|j| e[j] * y[(k * n + j, 1 + l)]).sum()
     });
-    let r = Mat::<f64>::from_fn(kc, 1, |k, _| {
-        (0..n).map(|j| e[j] * rhs[(k * n + j, 0)]).sum()
-    });
+    let r = Mat::<f64>::from_fn(kc, 1, |k, _| (0..n).map(|j| e[j] * y[(k * n + j, 0)]).sum());
     let c = s.partial_piv_lu().solve(&r);
     let c: Vec<f64> = (0..kc).map(|k| c[(k, 0)]).collect();
     let x: Vec<f64> = (0..big)
-        .map(|i| rhs[(i, 0)] - (0..kc).map(|l| rhs[(i, 1 + l)] * c[l]).sum::<f64>())
+        .map(|i| y[(i, 0)] - (0..kc).map(|l| y[(i, 1 + l)] * c[l]).sum::<f64>())
         .collect();
     if x.iter().chain(&c).all(|v| v.is_finite()) {
         Ok((x, c))
     } else {
-        Err(ShiftedSolveError::Solve(SolveError::Linear(
-            "Cholesky produced non-finite values".into(),
-        )))
+        Err(SolveError::Linear(
+            "the shifted single-layer system is singular (non-finite solution)".into(),
+        ))
     }
 }
