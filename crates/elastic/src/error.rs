@@ -27,6 +27,12 @@ pub struct IterationRecord {
     /// make it large), so the iteration converges at the larger of the
     /// tolerance and this floor.
     pub floor: f64,
+    /// Points the step assumed open ahead of an opening front (see the
+    /// solver's front prediction); 0 for an exact Newton step.
+    pub predicted: usize,
+    /// True for a predicted step that was tried and discarded (a linear
+    /// solve that did not move the iterate).
+    pub rejected: bool,
 }
 
 impl std::fmt::Display for IterationRecord {
@@ -43,7 +49,16 @@ impl std::fmt::Display for IterationRecord {
             self.status[1],
             self.status[2],
             self.changed
-        )
+        )?;
+        if self.predicted > 0 {
+            write!(
+                f,
+                ", {} predicted open{}",
+                self.predicted,
+                if self.rejected { " (rejected)" } else { "" }
+            )?;
+        }
+        Ok(())
     }
 }
 

@@ -37,8 +37,28 @@ impl StaticSolver<'_> {
             return Ok(1.0);
         }
         let g1 = g(1.0)?;
-        if g1 <= 0.05 * g0.abs() {
+        if g1.abs() <= 0.05 * g0.abs() {
             return Ok(1.0);
+        }
+        let (mut a, mut ga, mut b, mut gb) = (0.0, g0, 1.0, g1);
+        if g1 < 0.0 {
+            // The minimum lies beyond the full step: statuses changed along
+            // the ray made the energy softer than the linearisation. Go on
+            // along the ray (doubling) until the slope turns.
+            let mut x = 1.0;
+            let mut gx = g1;
+            while gx < 0.0 && x < MAX_STEP {
+                (a, ga) = (x, gx);
+                x *= 2.0;
+                gx = g(x)?;
+            }
+            if gx < 0.0 {
+                return Ok(a);
+            }
+            if gx.abs() <= 0.05 * g0.abs() {
+                return Ok(x);
+            }
+            (b, gb) = (x, gx);
         }
         // Root of g in (0, 1), g(0) < 0 < g(1), kept bracketed: false
         // position, with a bisection whenever one end has stayed put twice
@@ -46,7 +66,6 @@ impl StaticSolver<'_> {
         // false position alone creeps). If the bracket gets tight first, the
         // right end is taken: just past a kink, so the point that changed
         // branch there starts the next iteration on its new branch.
-        let (mut a, mut ga, mut b, mut gb) = (0.0, g0, 1.0, g1);
         let mut stuck = 0i32;
         for _ in 0..60 {
             let fp = a - ga * (b - a) / (gb - ga);
@@ -102,3 +121,6 @@ impl StaticSolver<'_> {
         Ok(if best.0.is_finite() { best.1 } else { 1.0 })
     }
 }
+
+/// Largest step along a Newton direction the energy line search looks at.
+const MAX_STEP: f64 = 64.0;

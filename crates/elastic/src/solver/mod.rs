@@ -23,9 +23,11 @@
 //! Files: [`options`] (loads, settings, reports), `assembly` (bulk and
 //! interface element loops, residual), `increment` (load increments,
 //! cut-back, outer multiplier / friction-limit passes), `newton` (one
-//! Newton pass), `line_search`, `recovery` (stresses).
+//! Newton pass), `front` (opening-front prediction), `line_search`,
+//! `recovery` (stresses).
 
 mod assembly;
+mod front;
 mod increment;
 mod line_search;
 mod newton;
@@ -83,6 +85,8 @@ pub struct StaticSolver<'a> {
     /// output displacements.
     gauges: Vec<Gauge>,
     states: States,
+    /// Per interface, the elements next to each element (front prediction).
+    neighbours: Vec<Vec<Vec<usize>>>,
     /// Order-2 meshes: the curved element geometry and pressure edges.
     p2: Option<P2Data<'a>>,
     loads: Loads,
@@ -192,6 +196,11 @@ impl<'a> StaticSolver<'a> {
             .iter()
             .map(|i| PointStates::new(i.nodes.len(), i.points_per_element()))
             .collect();
+        let neighbours = model
+            .interfaces
+            .iter()
+            .map(|i| front::element_neighbours(&i.nodes))
+            .collect();
         let laws = model
             .interfaces
             .iter()
@@ -222,6 +231,7 @@ impl<'a> StaticSolver<'a> {
             gauged: vec![0.0; n],
             gauges: Vec::new(),
             states,
+            neighbours,
             p2,
             loads: Loads::zero(),
             notes: Vec::new(),

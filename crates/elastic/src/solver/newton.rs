@@ -5,6 +5,7 @@ use tecon_fem::FemError;
 
 use crate::error::{ElasticError, IterationRecord};
 
+use super::front;
 use super::*;
 
 impl StaticSolver<'_> {
@@ -30,7 +31,12 @@ impl StaticSolver<'_> {
         // when bodies separate and move rigidly).
         let mut reference = norm(f_ext).max(f64::MIN_POSITIVE);
         let opts = self.options;
-        for it in 0..opts.max_iterations {
+        // front prediction (see `front`): element hops ahead of the points
+        // that just opened, doubled after every kept prediction
+        let mut reach = 1usize;
+        let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
+        while history.len() < opts.max_iterations {
+            let it = history.len();
             let (kt, f_int) = self.tangent_and_force(&u, committed, true)?;
             let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             let status = self.statuses(&u, committed);
@@ -81,6 +87,8 @@ impl StaticSolver<'_> {
                 status: counts,
                 changed,
                 floor,
+                predicted: 0,
+                rejected: false,
             });
             if converged || (rel == 0.0 && changed == 0) {
                 return Ok((u, history));
@@ -103,32 +111,85 @@ impl StaticSolver<'_> {
                 }
             }
             let symmetric = counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
-            match self.solve(&kt, &mut du, symmetric) {
-                Err(ElasticError::Fem(FemError::Unconstrained { .. }))
-                    if symmetric && self.has_friction() =>
-                {
-                    // Every joint point holding a body slips or is open at
-                    // this iterate (a full ring held only by its
-                    // interface): the energy is linear along the body's
-                    // rigid mode up to the next kink. This step uses a
-                    // weak shear stiffness at the slipping points, so it
-                    // moves far along the mode and the line search (on the
-                    // true energy) stops it at the kink; the next tangent
-                    // has a sticking point again. A body that stays free
-                    // with it fails below, named.
-                    // (the failed factorisation may have left the factor unusable)
-                    self.cholesky = None;
-                    let mut ks = self.slip_stabilised_tangent(&u, committed, SLIP_STABILISATION)?;
-                    self.rotations.rotate_matrix(&mut ks);
-                    du.clone_from(&r);
-                    self.prepared.apply_scaled(&mut ks, &mut du, 0.0);
-                    self.solve(&ks, &mut du, true)?;
+            let predicted = match &prev {
+                Some(p) if symmetric && opts.front_prediction => {
+                    let before: Vec<PointStatus> = p.iter().map(|s| s.0).collect();
+                    front::predicted_openings(
+                        &self.neighbours,
+                        &per_element,
+                        &before,
+                        &status,
+                        reach,
+                    )
                 }
-                other => other?,
-            }
-            let du_rotated = du.clone();
-            self.rotations.unrotate_vector(&mut du);
-            let step = if symmetric {
+                _ => Vec::new(),
+            };
+            let trial = if predicted.is_empty() {
+                None
+            } else {
+                self.predicted_step(f_ext, committed, &u, &r, &predicted)?
+            };
+            let (du, du_rotated, known_step) = match trial {
+                Some((du, du_rotated, step, all_open)) => {
+                    // a front that was not reached by all predicted points
+                    // is near: look less far ahead next time
+                    reach = if all_open {
+                        2 * reach
+                    } else {
+                        (reach / 2).max(1)
+                    };
+                    if let Some(h) = history.last_mut() {
+                        h.predicted = predicted.len();
+                    }
+                    (du, du_rotated, Some(step))
+                }
+                None => {
+                    if !predicted.is_empty() {
+                        // the trial cost a solve: it counts as an iteration
+                        reach = 1;
+                        let mut again = history.last().cloned().expect("this iterate's record");
+                        if let Some(h) = history.last_mut() {
+                            h.predicted = predicted.len();
+                            h.rejected = true;
+                        }
+                        again.iteration += 1;
+                        history.push(again);
+                        if history.len() >= opts.max_iterations {
+                            break;
+                        }
+                    }
+                    match self.solve(&kt, &mut du, symmetric) {
+                        Err(ElasticError::Fem(FemError::Unconstrained { .. }))
+                            if symmetric && self.has_friction() =>
+                        {
+                            // Every joint point holding a body slips or is open at
+                            // this iterate (a full ring held only by its
+                            // interface): the energy is linear along the body's
+                            // rigid mode up to the next kink. This step uses a
+                            // weak shear stiffness at the slipping points, so it
+                            // moves far along the mode and the line search (on the
+                            // true energy) stops it at the kink; the next tangent
+                            // has a sticking point again. A body that stays free
+                            // with it fails below, named.
+                            // (the failed factorisation may have left the factor unusable)
+                            self.cholesky = None;
+                            let mut ks =
+                                self.slip_stabilised_tangent(&u, committed, SLIP_STABILISATION)?;
+                            self.rotations.rotate_matrix(&mut ks);
+                            du.clone_from(&r);
+                            self.prepared.apply_scaled(&mut ks, &mut du, 0.0);
+                            self.solve(&ks, &mut du, true)?;
+                        }
+                        other => other?,
+                    }
+                    let du_rotated = du.clone();
+                    self.rotations.unrotate_vector(&mut du);
+                    (du, du_rotated, None)
+                }
+            };
+            let step = if let Some(step) = known_step {
+                step
+            } else if symmetric {
                 self.energy_line_search(f_ext, committed, &u, &du, &du_rotated, &r)?
             } else {
                 self.residual_line_search(f_ext, committed, &u, &du, &r)?
@@ -206,3 +267,52 @@ pub(super) fn failure(reason: impl Into<String>, history: Vec<IterationRecord>) 
         history,
     }
 }
+
+impl StaticSolver<'_> {
+    /// The Newton step from `u` on the branch where the flat points
+    /// `predicted` are open (see `front`), if it is a descent direction of
+    /// the exact energy (`r` is the exact residual at `u`, rotated frame)
+    /// whose exact line-search step is at least [`KEEP_PREDICTED_STEP`]:
+    /// `(du, du_rotated, step, every predicted point open at u + step du)`;
+    /// `None` otherwise.
+    #[allow(clippy::type_complexity)]
+    fn predicted_step(
+        &mut self,
+        f_ext: &[f64],
+        committed: &[PointStates],
+        u: &[f64],
+        r: &[f64],
+        predicted: &[usize],
+    ) -> Result<Option<(Vec<f64>, Vec<f64>, f64, bool)>, ElasticError> {
+        let forced = self.forced_open(committed, predicted);
+        let (kt, f_int) = self.tangent_and_force(u, &forced, true)?;
+        let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+        self.rotations.rotate_matrix(&mut kt);
+        let mut du = self.residual(f_ext, &f_int);
+        self.prepared.apply_scaled(&mut kt, &mut du, 0.0);
+        if self.solve(&kt, &mut du, true).is_err() {
+            // e.g. a body left without support: start the factor afresh
+            self.cholesky = None;
+            return Ok(None);
+        }
+        if dot(r, &du) <= 0.0 {
+            return Ok(None);
+        }
+        let du_rotated = du.clone();
+        self.rotations.unrotate_vector(&mut du);
+        let step = self.energy_line_search(f_ext, committed, u, &du, &du_rotated, r)?;
+        if step < KEEP_PREDICTED_STEP {
+            return Ok(None);
+        }
+        let end: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
+        let status = self.statuses(&end, committed);
+        let all_open = predicted
+            .iter()
+            .all(|&i| status[i].0.0 == ContactStatus::Open);
+        Ok(Some((du, du_rotated, step, all_open)))
+    }
+}
+
+/// Shortest exact line-search step for which a predicted step is kept
+/// (shorter: the prediction was far off, the exact Newton step is taken).
+const KEEP_PREDICTED_STEP: f64 = 0.5;

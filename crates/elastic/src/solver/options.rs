@@ -102,6 +102,11 @@ pub struct SolverOptions {
     /// Frozen friction limits: stop the passes when the largest change of a
     /// limit is below this × the largest contact pressure.
     pub friction_tolerance: f64,
+    /// Opening-front prediction in the Newton passes (see the solver's
+    /// `front` module): steps that open the points ahead of an opening
+    /// front together, kept only when they prove right. The converged
+    /// answer is the same either way; only the path changes.
+    pub front_prediction: bool,
 }
 
 impl Default for SolverOptions {
@@ -117,6 +122,7 @@ impl Default for SolverOptions {
             max_augmentations: 30,
             friction_bound: FrictionBound::Frozen,
             friction_tolerance: 1e-4,
+            front_prediction: true,
         }
     }
 }
