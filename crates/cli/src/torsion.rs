@@ -72,7 +72,7 @@ pub struct TorsionArgs {
     /// Daubechies wavelet dbN
     #[arg(long, default_value = "db4")]
     pub wavelet: String,
-    /// Kress grading exponent at corners (default 6; 4 at a cusp)
+    /// Kress grading exponent at corners (default 8; 4 at a cusp)
     #[arg(long)]
     pub grading: Option<f64>,
     /// Output format
@@ -141,7 +141,7 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
         .iter()
         .flat_map(|c| c.junctions.iter())
         .any(|j| j.interior_angle > 1.9 * std::f64::consts::PI || j.interior_angle < 0.1);
-    let grading = args.grading.unwrap_or(if cusp { 4.0 } else { 6.0 });
+    let grading = args.grading.unwrap_or(if cusp { 4.0 } else { 8.0 });
     if args.compress.is_some() {
         return Err(
             "--compress was removed: the thresholded wavelet matrix lost definiteness \

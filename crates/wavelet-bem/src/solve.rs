@@ -70,7 +70,7 @@ impl Default for Options {
             n: 256,
             method: Method::Daubechies,
             wavelet_order: 4,
-            grading: 6.0,
+            grading: 8.0,
             linear: LinearSolver::Dense,
         }
     }
