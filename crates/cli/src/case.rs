@@ -391,23 +391,26 @@ fn display(file: &Path) -> String {
     }
 }
 
+/// A TOML error of `text` as one line naming the file, line and column.
+pub(crate) fn toml_error(text: &str, file: &Path, e: &toml::de::Error) -> String {
+    let at = e.span().map(|s| {
+        let before = text.get(..s.start).unwrap_or(text);
+        let line = before.matches('\n').count() + 1;
+        let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
+        format!("{line}:{col}: ")
+    });
+    let msg = e.message().replace('\n', " ");
+    format!(
+        "{}:{}{}",
+        display(file),
+        at.map_or(" ".into(), |a| a),
+        msg.trim()
+    )
+}
+
 /// Parses a case from TOML text; `file` names it in errors.
 pub fn parse(text: &str, file: &Path) -> CliResult<Case> {
-    let mut case: Case = toml::from_str(text).map_err(|e| {
-        let at = e.span().map(|s| {
-            let before = text.get(..s.start).unwrap_or(text);
-            let line = before.matches('\n').count() + 1;
-            let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
-            format!("{line}:{col}: ")
-        });
-        let msg = e.message().replace('\n', " ");
-        format!(
-            "{}:{}{}",
-            display(file),
-            at.map_or(" ".into(), |a| a),
-            msg.trim()
-        )
-    })?;
+    let mut case: Case = toml::from_str(text).map_err(|e| toml_error(text, file, &e))?;
     case.source = file.to_path_buf();
     Ok(case)
 }
@@ -686,7 +689,21 @@ pub fn default_out(case_file: &Path) -> PathBuf {
 
 /// Runs `tecon run`.
 pub fn run(args: RunArgs) -> CliResult<()> {
-    let mut case = load(&args.case)?;
+    let text = std::fs::read_to_string(&args.case).map_err(|e| err(&args.case, e))?;
+    if crate::case_stages::is_staged(&text) {
+        // [multilayer] + [[stage]]: the pipeline of `tecon vessel --layers`
+        let mut case = crate::case_stages::parse(&text, &args.case)?;
+        case.progress = !args.quiet;
+        let out = args.out.clone().unwrap_or_else(|| default_out(&args.case));
+        let text =
+            crate::case_stages::run(&case, &out).map_err(|e| e.to_string().replace('\n', "; "))?;
+        if !args.quiet {
+            print!("{text}");
+            println!("results in {}", out.display());
+        }
+        return Ok(());
+    }
+    let mut case = parse(&text, &args.case)?;
     // a progress bar on stderr (indicatif draws nothing when it is not a terminal)
     case.progress = !args.quiet;
     let base = args

@@ -2,7 +2,8 @@
 //! end-to-end tests of the workspace call them directly).
 //!
 //! * [`vessel`]: the welded-vessel case end to end.
-//! * [`multilayer`]: `tecon vessel --layers N`, the staged multilayer vessel.
+//! * [`multilayer`]: `tecon vessel --layers N`, the staged multilayer vessel;
+//!   [`case_stages`]: the same from a case file (`[multilayer]`, `[[stage]]`).
 //! * [`mesh_cmd`]: mesh generation / import and VTK output.
 //! * [`torsion`]: wavelet-BEM torsion of a section.
 //! * [`plot`]: SVG/PNG figures (panels, log axes, clipped lines) shared by the commands.
@@ -19,6 +20,7 @@
 
 pub mod builtin;
 pub mod case;
+pub mod case_stages;
 pub mod cmdline;
 pub mod conductance;
 pub mod coupling_loop;

@@ -55,6 +55,12 @@ pub struct MultilayerOptions {
     pub friction: f64,
     /// Output times of each stage's cooling, s (the last ends it).
     pub times: Vec<f64>,
+    /// Per layer stage, its own output times (case files' `[[stage]]`
+    /// `times`); None: [`MultilayerOptions::times`] for every stage.
+    pub stage_times: Option<Vec<Vec<f64>>>,
+    /// Per layer, the initial temperature of its weld, °C; None: the
+    /// data's weld temperature for every weld.
+    pub weld_temperatures: Option<Vec<f64>>,
     /// Shear penalty of the joints relative to the normal one, k_s / k_n;
     /// None: 1 on a half section (the paper's k_s = k_n) and
     /// [`FULL_RING_SHEAR_RATIO`] on a full ring.
@@ -98,9 +104,35 @@ impl MultilayerOptions {
             friction: 0.3,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
             shear_ratio: None,
+            stage_times: None,
+            weld_temperatures: None,
             pressure: None,
             quiet: false,
         })
+    }
+
+    /// The initial temperature of weld `k` (1-based), °C.
+    pub fn weld_temperature(&self, k: usize) -> f64 {
+        self.weld_temperatures
+            .as_ref()
+            .and_then(|w| w.get(k - 1).copied())
+            .unwrap_or(self.data.weld_temperature)
+    }
+
+    /// The sorted output times of layer stage `k` (1-based), s; errors if
+    /// there is none or one is not positive.
+    pub fn stage_output_times(&self, k: usize) -> CliResult<Vec<f64>> {
+        let mut times = self
+            .stage_times
+            .as_ref()
+            .and_then(|t| t.get(k - 1).cloned())
+            .unwrap_or_else(|| self.times.clone());
+        if times.is_empty() || times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
+            return Err(format!("stage {k}: give positive output times in seconds").into());
+        }
+        times.sort_by(f64::total_cmp);
+        times.dedup();
+        Ok(times)
     }
 
     /// Whether the section is meshed as a half (every seam on y = 0).
@@ -187,12 +219,15 @@ pub fn interface_name(k: usize) -> String {
 /// The sequential shrink fit with the plane-strain interference of every weld.
 pub fn sequential_fit(o: &MultilayerOptions) -> CliResult<SequentialShrinkFit> {
     let d = &o.data;
-    let dt = d.weld_temperature - d.ambient;
     let deltas = o
         .geometry
         .layers
         .iter()
-        .map(|l| (1.0 + d.poisson_ratio) * d.expansion * dt * 2.0 * l.weld_half_width / (2.0 * PI))
+        .enumerate()
+        .map(|(k, l)| {
+            let dt = o.weld_temperature(k + 1) - d.ambient;
+            (1.0 + d.poisson_ratio) * d.expansion * dt * 2.0 * l.weld_half_width / (2.0 * PI)
+        })
         .collect();
     Ok(SequentialShrinkFit::new(
         o.geometry.radii(),
@@ -228,7 +263,7 @@ pub fn stage_thermal_model<'m>(
         m.set_interface_conductance(&interface_name(j), d.interface_conductance)?;
     }
     m.set_initial_default(d.ambient)?;
-    m.set_initial_region(&format!("weld{k}"), d.weld_temperature)?;
+    m.set_initial_region(&format!("weld{k}"), o.weld_temperature(k))?;
     for (v, &t) in previous.iter().enumerate() {
         m.set_initial_node(v, t)?;
     }
@@ -332,13 +367,9 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
     let clock = std::time::Instant::now();
     let geo = &o.geometry;
     let n = geo.layers.len();
-    let mut times = o.times.clone();
-    if times.is_empty() || times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-        return Err("--times: give positive output times in seconds".into());
+    for k in 1..=n {
+        o.stage_output_times(k)?;
     }
-    times.sort_by(f64::total_cmp);
-    times.dedup();
-    let end = times[times.len() - 1];
     let mesh = multilayer_vessel_mesh(geo, &o.spec)?;
     let fit = sequential_fit(o)?;
     let solver_options = SolverOptions {
@@ -355,6 +386,8 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         if !o.quiet {
             eprintln!("stage {k}/{n}: layer {k} wrapped, weld {k} cooling");
         }
+        let times = o.stage_output_times(k)?;
+        let end = times[times.len() - 1];
         // heat conduction with the bodies present at this stage
         let sm = multilayer_stage_mesh(geo, &o.spec, k)?;
         let thermal = stage_thermal_model(o, &sm, k, &temperature)?;

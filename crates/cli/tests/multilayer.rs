@@ -10,6 +10,7 @@
 //! to 1e-10; bad layer input refused by name.
 
 use tecon_cli::builtin::schedule;
+use tecon_cli::case_stages;
 use tecon_cli::driver::{
     self, Coupling, LoadFactors, Procedure, Setup, Stage, StageTemperature, ThermalSetup,
 };
@@ -283,4 +284,190 @@ fn pressure_stage_matches_prestress_plus_lame() {
         st.newton_iterations
     );
     assert!(worst < 0.01, "{worst}");
+}
+
+/// The example case file `examples/cases/multilayer.toml` (`[multilayer]`
+/// and `[[stage]]`) is the run of `tecon vessel --layers 3 --times 60,72000
+/// --pressure 1e6`: bitwise the same ring means after every stage, within
+/// 1 % of the closed form.
+#[test]
+fn the_multilayer_example_case_is_the_staged_vessel() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/cases/multilayer.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(case_stages::is_staged(&text));
+    let case = case_stages::parse(&text, &path).unwrap();
+    let from_file = case_stages::options(&case).unwrap();
+    assert_eq!(from_file.pressure, Some(1e6));
+    let run = analyse(&from_file).unwrap();
+    let mut o = MultilayerOptions::new(3, 6.4e-3, None).unwrap();
+    o.quiet = true;
+    o.times = vec![60.0, 72000.0];
+    o.pressure = Some(1e6);
+    let direct = analyse(&o).unwrap();
+    assert_eq!(run.stages.len(), 4);
+    for (a, b) in run.stages.iter().zip(&direct.stages) {
+        assert_eq!(a.ring_means, b.ring_means);
+        assert_eq!(a.pressures, b.pressures);
+    }
+    let worst = worst_ring_error(&run);
+    eprintln!("example case: the same as tecon vessel --layers 3; vs closed form {worst:.3e}");
+    assert!(worst < 0.01, "{worst}");
+}
+
+/// Bad `[multilayer]`/`[[stage]]` input: one line naming the file and the
+/// stage, layer, region or interface at fault.
+#[test]
+fn bad_stage_input_is_named() {
+    let layers = r#"
+[multilayer]
+inner_radius = 0.762
+core_thickness = 0.0127
+[[multilayer.layer]]
+thickness = 0.0064
+seam = 0.0
+weld_half_width = 0.0038
+[[multilayer.layer]]
+thickness = 0.0064
+seam = 90.0
+weld_half_width = 0.0038
+"#;
+    let stage = |k: usize, regions: &str, itf: &str| {
+        format!(
+            "[[stage]]\nactivate = {regions}\ninterfaces = [\"{itf}\"]\ntimes = [72000.0]\n# {k}\n"
+        )
+    };
+    let good1 = stage(1, r#"["layer1", "weld1"]"#, "core_layer1");
+    let good2 = stage(2, r#"["layer2", "weld2"]"#, "layer1_layer2");
+    let file = std::path::Path::new("bad.toml");
+    let check = |text: String, what: &[&str]| {
+        let e = case_stages::parse(&text, file)
+            .and_then(|c| case_stages::options(&c))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        eprintln!("{e}");
+        assert!(e.starts_with("bad.toml"), "{e}");
+        for w in what {
+            assert!(e.contains(w), "{w}: {e}");
+        }
+    };
+    // the good case parses
+    let ok = case_stages::parse(&format!("{layers}{good1}{good2}"), file).unwrap();
+    assert!(case_stages::options(&ok).is_ok());
+    check(
+        format!(
+            "{layers}{}{good2}",
+            stage(1, r#"["layer1", "weld7"]"#, "core_layer1")
+        ),
+        &["[[stage]] 1", "unknown region 'weld7'"],
+    );
+    check(
+        format!(
+            "{layers}{good1}{}",
+            stage(2, r#"["layer2", "weld2"]"#, "layer2_layer9")
+        ),
+        &["[[stage]] 2", "unknown interface 'layer2_layer9'"],
+    );
+    check(
+        format!(
+            "{layers}{}",
+            stage(1, r#"["layer2", "weld2"]"#, "layer1_layer2")
+        ),
+        &["[[stage]] 1", "from the core outwards"],
+    );
+    check(format!("{layers}{good1}"), &["1 layer stages for 2 layers"]);
+    check(
+        format!(
+            "{}{good1}{good2}",
+            layers.replace(
+                "thickness = 0.0064\nseam = 90.0",
+                "thickness = 0.0\nseam = 90.0"
+            )
+        ),
+        &["layer2", "zero or negative thickness"],
+    );
+    check(
+        format!(
+            "{}{good1}{good2}",
+            layers.replace(
+                "thickness = 0.0064\nseam = 90.0",
+                "r_in = 0.779\nr_out = 0.785\nseam = 90.0"
+            )
+        ),
+        &["layer2", "overlaps the ring below"],
+    );
+    check(
+        format!(
+            "{}{good1}{good2}",
+            layers.replace("seam = 90.0", "seam = 400.0")
+        ),
+        &["layer2", "400"],
+    );
+    check(
+        format!("{layers}{good1}[[stage]]\npressure = 1e6\n{good2}"),
+        &["[[stage]] 2", "comes last"],
+    );
+    check(
+        format!("[mesh]\ngenerator = \"vessel\"\n{layers}{good1}{good2}"),
+        &["[mesh] is not available with [multilayer]"],
+    );
+    check(
+        format!("{layers}{good1}{good2}[[stage]]\npressure = 1e6\nfoo = 1\n"),
+        &["unknown field `foo`"],
+    );
+}
+
+/// `tecon run` on a staged case file: one layer, the contact solved at the
+/// end of the cooling; the files of `tecon vessel --layers` are written,
+/// and a bad stage exits non-zero with the one-line error.
+#[test]
+fn tecon_run_takes_a_staged_case_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("one.toml");
+    let text = r#"
+[multilayer]
+inner_radius = 0.762
+core_thickness = 0.0127
+[[multilayer.layer]]
+thickness = 0.0064
+seam = 0.0
+weld_half_width = 0.0038
+[[stage]]
+activate = ["layer1", "weld1"]
+interfaces = ["core_layer1"]
+times = [72000.0]
+"#;
+    std::fs::write(&case, text).unwrap();
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args(["run", case.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "summary.json",
+        "stage1_summary.json",
+        "stage1_hoop_through_wall.csv",
+        "multilayer.pvd",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let worst = s["max_relative_error_ring_means"].as_f64().unwrap();
+    assert!(worst < 0.01, "{worst}");
+    std::fs::write(&case, text.replace("\"weld1\"]", "\"weld2\"]")).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args(["run", case.to_str().unwrap(), "--quiet", "--out"])
+        .arg(dir.path().join("out2"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        e.contains("one.toml") && e.contains("unknown region 'weld2'"),
+        "{e}"
+    );
 }
