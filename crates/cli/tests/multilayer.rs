@@ -208,11 +208,13 @@ fn bad_layer_input_is_named() {
 }
 
 /// `n` layers with the default, evenly staggered seams (full ring), the
-/// default mesh, contact solved at 60 s and at the end of each cooling,
-/// then the internal `pressure` (if any).
-fn staggered(n: usize, pressure: Option<f64>) -> (f64, usize, f64) {
+/// default mesh but for the largest interval away from the welds,
+/// contact solved at 60 s and at the end of each cooling, then the
+/// internal `pressure` (if any).
+fn staggered(n: usize, pressure: Option<f64>, max_interval_deg: f64) -> (f64, usize, f64) {
     let mut o = MultilayerOptions::new(n, 6.4e-3, None).unwrap();
     o.quiet = true;
+    o.spec.max_interval = max_interval_deg.to_radians();
     o.times = vec![60.0, 72000.0];
     o.pressure = pressure;
     assert!(!o.half_section());
@@ -229,13 +231,16 @@ fn staggered(n: usize, pressure: Option<f64>) -> (f64, usize, f64) {
 #[test]
 fn three_staggered_layers_match_the_sequential_fit() {
     // and a pressure stage on the full ring (0.05 MPa, see below)
-    let (worst, _, _) = staggered(3, Some(0.05e6));
+    let (worst, _, _) = staggered(3, Some(0.05e6), 3.0);
     assert!(worst < 0.01, "{worst}");
 }
 
+/// On a coarser mesh than the default (intervals up to 6° away from the
+/// welds instead of 3°), to stay fast in CI; the default mesh (5 520
+/// triangles) gives 1.7e-3 and is the bench's.
 #[test]
 fn five_staggered_layers_match_the_sequential_fit() {
-    let (worst, _, _) = staggered(5, None);
+    let (worst, _, _) = staggered(5, None, 6.0);
     assert!(worst < 0.01, "{worst}");
 }
 
