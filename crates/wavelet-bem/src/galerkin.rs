@@ -238,10 +238,17 @@ pub(crate) fn solve(
     let (alpha, c, compression) = match opts.linear {
         LinearSolver::Dense => {
             // the shifted matrix (kernel −(1/2π) ln(|x − y|/ρ), ρ = 4 × the largest
-            // distance of Γ from the centroid ≥ 4 × capacity): Cholesky, else LU
+            // distance of Γ from the centroid ≥ 4 × capacity): Cholesky on smooth
+            // boundaries, LU on boundaries with corners
             let kappa = (4.0 * section.radius()).ln() / (2.0 * PI);
             let mut matrix = std::mem::take(&mut sys.matrix);
-            let (x, c) = shifted_saddle_solve(&mut matrix, n, &sys.constraint, &sys.load, kappa)?;
+            // graded corners can leave the discrete matrix slightly indefinite: LU there
+            let smooth = section
+                .curves()
+                .iter()
+                .all(|c| (0..c.pieces.len()).all(|k| !c.graded(k)));
+            let (x, c) =
+                shifted_saddle_solve(&mut matrix, n, &sys.constraint, &sys.load, kappa, smooth)?;
             (x, c, None)
         }
         LinearSolver::Compressed { eps, tol } => {

@@ -201,6 +201,7 @@ pub fn shifted_saddle_solve(
     e: &[f64],
     f: &[f64],
     kappa: f64,
+    try_cholesky: bool,
 ) -> Result<(Vec<f64>, Vec<f64>), SolveError> {
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::linalg::cholesky::llt;
@@ -215,8 +216,6 @@ pub fn shifted_saddle_solve(
             *v += ei * e[j % n];
         }
     });
-    // kept for the LU fallback (faer's Cholesky may use the other triangle too)
-    let backup = Mat::<f64>::from_fn(big, big, |i, j| a[j * big + i]);
     let par = faer::get_global_parallelism();
     // right-hand sides: f, E_0, …, E_{K−1}
     let mut rhs = Mat::<f64>::zeros(big, kc + 1);
@@ -226,6 +225,12 @@ pub fn shifted_saddle_solve(
     }
     // a symmetric row-major matrix is its own column-major storage
     let mut m = faer::MatMut::from_column_major_slice_mut(a, big, big);
+    if !try_cholesky {
+        let y = m.as_ref().partial_piv_lu().solve(&rhs);
+        return schur(&y, n, e);
+    }
+    // kept for the LU fallback (faer's Cholesky may use the other triangle too)
+    let backup = m.to_owned();
     let scratch = llt::factor::cholesky_in_place_scratch::<f64>(big, par, Default::default());
     let mut buf = MemBuffer::new(scratch);
     let chol = llt::factor::cholesky_in_place(
@@ -245,6 +250,13 @@ pub fn shifted_saddle_solve(
         }
         Err(_) => backup.partial_piv_lu().solve(&rhs),
     };
+    schur(&y, n, e)
+}
+
+/// The multipliers and the solution from the solves Y = B⁻¹ [f, E_0, …, E_{K−1}].
+fn schur(y: &Mat<f64>, n: usize, e: &[f64]) -> Result<(Vec<f64>, Vec<f64>), SolveError> {
+    let big = y.nrows();
+    let kc = big / n;
     // Schur complement S_kl = E_kᵀ B⁻¹ E_l and r_k = E_kᵀ B⁻¹ f
     let s = Mat::<f64>::from_fn(kc, kc, |k, l| {
         (0..n).map(|j| e[j] * y[(k * n + j, 1 + l)]).sum()
