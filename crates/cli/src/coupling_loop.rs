@@ -232,7 +232,7 @@ fn split_steps(
         next += 1;
     }
     for (k, &dt) in schedule.steps().iter().enumerate() {
-        let theta = scheme.theta_at(k);
+        let theta = scheme.theta_for(k, schedule.steps());
         let tol = 1e-9 * dt;
         let step_end = now + dt;
         let mut split = false;

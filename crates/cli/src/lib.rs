@@ -1,7 +1,8 @@
 //! `tecon-cli`: the commands of the `tecon` binary, usable as a library (the
 //! end-to-end tests of the workspace call them directly).
 //!
-//! * [`vessel`]: the welded-vessel case end to end.
+//! * [`vessel`]: the welded-vessel case end to end; [`accuracy`]: the quantities
+//!   its accuracy is judged on, at fixed points, and the convergence arithmetic.
 //! * [`multilayer`]: `tecon vessel --layers N`, the staged multilayer vessel;
 //!   [`case_stages`]: the same from a case file (`[multilayer]`, `[[stage]]`).
 //! * [`mesh_cmd`]: mesh generation / import and VTK output.
@@ -18,6 +19,7 @@
 //! * [`probes`]: probe points checked against the mesh.
 //! * [`cmdline`]: argument checks before computing; quiet end on a closed pipe.
 
+pub mod accuracy;
 pub mod builtin;
 pub mod case;
 pub mod case_stages;

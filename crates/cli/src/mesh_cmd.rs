@@ -28,13 +28,15 @@ pub struct MeshArgs {
 pub fn parse_preset(preset: &str) -> Result<VesselMeshSpec, String> {
     let bad = || {
         format!(
-            "--preset '{preset}': expected 'paper', a refinement level 0-9, 'xF' (every paper interval in F parts) or 'tN' (about N triangles)"
+            "--preset '{preset}': expected 'paper', a refinement level 0-9, 'gL' (graded level L = 0-5, order 2, about 2784·4^L triangles), 'xF' (every paper interval in F parts) or 'tN' (about N triangles)"
         )
     };
     let spec = match preset {
         "paper" => Ok(VesselMeshSpec::paper()),
         other => {
-            if let Some(f) = other.strip_prefix('x') {
+            if let Some(l) = other.strip_prefix('g') {
+                VesselMeshSpec::graded(l.parse().map_err(|_| bad())?)
+            } else if let Some(f) = other.strip_prefix('x') {
                 VesselMeshSpec::subdivided(f.parse().map_err(|_| bad())?)
             } else if let Some(n) = other.strip_prefix('t') {
                 let n: f64 = n.parse().map_err(|_| bad())?;

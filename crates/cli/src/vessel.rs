@@ -132,12 +132,12 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
 }
 
 /// Polar coordinates (r, θ) of a point.
-fn r_theta(p: [f64; 2]) -> (f64, f64) {
+pub(crate) fn r_theta(p: [f64; 2]) -> (f64, f64) {
     ((p[0] * p[0] + p[1] * p[1]).sqrt(), p[1].atan2(p[0]))
 }
 
 /// Nodes of one body on the circle of radius `r`, sorted by θ.
-fn ring_nodes(mesh: &Mesh, body: usize, r: f64) -> Vec<usize> {
+pub(crate) fn ring_nodes(mesh: &Mesh, body: usize, r: f64) -> Vec<usize> {
     let tol = 1e-9 * r;
     let mut v: Vec<usize> = (0..mesh.n_nodes())
         .filter(|&i| mesh.node_bodies()[i] == body && (r_theta(mesh.nodes()[i]).0 - r).abs() < tol)
@@ -151,7 +151,7 @@ fn ring_nodes(mesh: &Mesh, body: usize, r: f64) -> Vec<usize> {
 }
 
 /// Body index of the core and of the layer (the same when the weld is fused).
-fn bodies(mesh: &Mesh) -> (usize, usize) {
+pub(crate) fn bodies(mesh: &Mesh) -> (usize, usize) {
     let core = mesh
         .bodies()
         .iter()

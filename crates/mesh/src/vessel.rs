@@ -79,6 +79,13 @@ pub struct VesselMeshSpec {
     /// shrink geometrically from θ = 0 to θ_w. 1 = uniform across the weld
     /// (every preset but [`VesselMeshSpec::graded`]).
     pub weld_grading: f64,
+    /// Largest interval outside the weld, rad: the geometric growth toward
+    /// θ = π stops at this size and the rest is uniform (the far field,
+    /// where the ovalisation of a bonded layer lives, must not be left to a
+    /// few 30° elements). `f64::INFINITY`: no cap (every preset but
+    /// [`VesselMeshSpec::graded`]). A cap too small for the intervals to
+    /// reach π is raised to the uniform size.
+    pub max_interval: f64,
     /// Fuse the weld to the core (no interface under the weld).
     pub fused_weld: bool,
     /// Element order: 1 (3-node) or 2 (6-node triangles; mid nodes at the
@@ -98,6 +105,7 @@ impl VesselMeshSpec {
             weld_divisions: 1,
             first_ratio: 1.5,
             weld_grading: 1.0,
+            max_interval: f64::INFINITY,
             fused_weld: false,
             order: 1,
         }
@@ -142,34 +150,54 @@ impl VesselMeshSpec {
         Self::subdivided(1usize << level)
     }
 
-    /// The graded quadratic mesh of level `level` (0 ..= 6), made for P2:
-    /// 6-node triangles, 2·2^L rows through core and layer, 4·2^L weld
-    /// intervals shrinking toward the weld edge θ_w by 1.5^(1/2^L) each, the
-    /// first interval outside the weld 1.5^(1/2^L) times the last one inside,
-    /// and 40·2^L intervals growing geometrically from θ_w to π.
+    /// The graded quadratic mesh of level `level` (0 ..= 5), made for P2:
+    /// 6-node triangles; 2·2^L rows through the core and 6·2^L through the
+    /// layer (the weld plane and the opening beside the weld bend the
+    /// layer; three core rows change no judged quantity); 8·2^L weld intervals shrinking toward the weld edge θ_w by
+    /// g = 1.3^(1/2^L) each, the first interval outside the weld g times the
+    /// last one inside; outside, intervals growing by about 1.25^(1/2^L)
+    /// up to 1.2°/2^L, then uniform to θ = π (the far field at 90° and 180°
+    /// is not left to a few long elements, and the heat front beside the
+    /// weld is not crossed by a jump in element size).
     ///
-    /// Level 0 (352 triangles) is the cheap default candidate; each level
-    /// doubles every count (the same grading spread over twice the
-    /// intervals: inside the weld the stations of level L are those of level
-    /// L + 1, outside they are close), so levels form a convergence study.
-    /// Level L has 352·4^L triangles.
+    /// Level 0 (2 784 triangles) is the default of `tecon vessel`, chosen
+    /// by the accuracy study of docs/vessel.md; each level halves every
+    /// interval (inside the weld the stations of level L are those of
+    /// level L + 1), so levels form a convergence study: about 2784·4^L
+    /// triangles.
     pub fn graded(level: u32) -> Result<Self, MeshError> {
-        if level > 6 {
+        if level > 5 {
             return Err(MeshError::InvalidParameter {
                 name: "level",
                 value: level.to_string(),
-                reason: "graded levels 0..=6 are offered (level 6 has 1.4e6 triangles)".into(),
+                reason: "graded levels 0..=5 are offered (level 5 has 2.9e6 triangles)".into(),
             });
         }
         let f = 1usize << level;
-        let root = 1.5_f64.powf(1.0 / f as f64);
+        let root = |x: f64| x.powf(1.0 / f as f64);
+        let (g, q, cap) = (root(1.3), root(1.25), (1.2 / f as f64).to_radians());
+        let nw = 8 * f;
+        // intervals outside the weld: growth by q from g·h_edge up to the
+        // cap, then uniform (station_angles fits the exact ratio)
+        let geo = VesselGeometry::default();
+        let tw = geo.weld_half_angle();
+        let rest = std::f64::consts::PI - tw;
+        let mut h = g * tw * (g - 1.0) / (g.powi(nw as i32) - 1.0);
+        let (mut sum, mut m) = (0.0, 0usize);
+        while h < cap && sum < rest {
+            sum += h;
+            h *= q;
+            m += 1;
+        }
+        m += ((rest - sum) / cap).ceil().max(0.0) as usize;
         Ok(VesselMeshSpec {
             core_rows: 2 * f,
-            layer_rows: 2 * f,
-            stations: 44 * f + 1,
-            weld_divisions: 4 * f,
-            first_ratio: root,
-            weld_grading: root,
+            layer_rows: 6 * f,
+            stations: nw + m + 1,
+            weld_divisions: nw,
+            first_ratio: g,
+            weld_grading: g,
+            max_interval: cap,
             fused_weld: false,
             order: 2,
         })
@@ -244,6 +272,39 @@ pub fn station_angles(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Vec<f64> {
     } else {
         spec.first_ratio * h_edge
     };
+    if spec.max_interval.is_finite() && m > 1 && h1 * (m as f64) < rest {
+        // capped growth: h_k = min(h1 q^k, H), Σ h_k = rest, q by bisection
+        let cap = spec.max_interval.max(1.02 * (rest - h1) / (m - 1) as f64);
+        let sum = |q: f64| {
+            let mut s = 0.0;
+            let mut h = h1;
+            for _ in 0..m {
+                s += h.min(cap);
+                h *= q;
+            }
+            s - rest
+        };
+        let (mut lo, mut hi) = (1.0, 2.0_f64);
+        while sum(hi) < 0.0 {
+            hi *= 2.0;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if sum(mid) < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let q = 0.5 * (lo + hi);
+        let (mut h, mut t) = (h1, tw);
+        for k in 0..m {
+            t += h.min(cap);
+            h *= q;
+            out.push(if k + 1 == m { std::f64::consts::PI } else { t });
+        }
+        return out;
+    }
     let q = if h1 * m as f64 >= rest {
         1.0
     } else {
@@ -463,6 +524,13 @@ fn check_spec(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<(), MeshErr
             "weld_grading",
             spec.weld_grading.to_string(),
             "must lie in [1, 4] (1 = uniform across the weld)",
+        );
+    }
+    if !(spec.max_interval > 0.0) {
+        return bad(
+            "max_interval",
+            spec.max_interval.to_string(),
+            "must be positive (f64::INFINITY: no cap)",
         );
     }
     if !(spec.first_ratio.is_finite() && spec.first_ratio > 0.0) {

@@ -712,7 +712,7 @@ pub fn run_transient<F: FnMut(&Snapshot)>(
     };
     emit(&stepper, &mut next, slack);
     for (k, &dt) in schedule.steps().iter().enumerate() {
-        let theta = scheme.theta_at(k);
+        let theta = scheme.theta_for(k, schedule.steps());
         let tol = 1e-9 * dt;
         let step_end = stepper.time() + dt;
         let mut split = false;
