@@ -526,7 +526,7 @@ fn check_spec(geo: &VesselGeometry, spec: &VesselMeshSpec) -> Result<(), MeshErr
             "must lie in [1, 4] (1 = uniform across the weld)",
         );
     }
-    if !(spec.max_interval > 0.0) {
+    if spec.max_interval.is_nan() || spec.max_interval <= 0.0 {
         return bad(
             "max_interval",
             spec.max_interval.to_string(),
