@@ -596,7 +596,13 @@ impl<'s> Contact<'s> {
             heat_balance: th.and_then(|s| s.heat_balance),
             displacement: on_mesh_displacement(self.setup, self.solver.displacement()),
             eps_zz: self.solver.eps_zz(),
-            stress: on_mesh_stress(self.setup, self.solver.stresses()),
+            stress: on_mesh_stress(
+                self.setup,
+                self.solver.stresses(),
+                self.setup
+                    .tie
+                    .and_then(|_| self.solver.quadratic_stresses()),
+            ),
             interface: self.solver.interface_results(),
             max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
             max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
@@ -639,8 +645,14 @@ fn on_mesh_displacement(setup: &Setup<'_>, u: &[f64]) -> Vec<f64> {
 /// Stresses of the elastic model on the setup's mesh. Elements keep their
 /// numbers when interfaces are tied; a node of a tied pair takes the
 /// area-weighted mean of its own body's elements (never averaged across
-/// the interface), every other node the solver's value.
-fn on_mesh_stress(setup: &Setup<'_>, s: StressField) -> StressField {
+/// the interface): on 6-node meshes of their patch-recovered values `q`
+/// (second order), on linear meshes of the element values; every other
+/// node the solver's value.
+fn on_mesh_stress(
+    setup: &Setup<'_>,
+    s: StressField,
+    q: Option<tecon_elastic::QuadraticStresses>,
+) -> StressField {
     let Some(t) = setup.tie else {
         return s;
     };
@@ -662,12 +674,27 @@ fn on_mesh_stress(setup: &Setup<'_>, s: StressField) -> StressField {
             acc[v][4] += w;
         }
     };
-    match mesh.triangles6() {
-        Some(t6) => t6
+    match (mesh.triangles6(), q) {
+        // order 2: a tied node takes the patch-recovered values of its own
+        // side (region), not the element means (first order only)
+        (Some(t6), Some(q)) => {
+            for (e, tri) in t6.iter().enumerate() {
+                for (a, &v) in tri.iter().enumerate() {
+                    if shared[map[v]] > 1 {
+                        let w = areas[e].abs();
+                        for (x, r) in acc[v].iter_mut().zip(q.recovered[e][a]) {
+                            *x += w * r;
+                        }
+                        acc[v][4] += w;
+                    }
+                }
+            }
+        }
+        (Some(t6), None) => t6
             .iter()
             .enumerate()
             .for_each(|(e, tri)| tri.iter().for_each(|&v| add(e, v))),
-        None => mesh
+        (None, _) => mesh
             .triangles()
             .iter()
             .enumerate()
@@ -704,7 +731,11 @@ pub fn solve_mechanical(
         source: Box::new(e),
     })?;
     Ok((
-        on_mesh_stress(setup, s.stresses()),
+        on_mesh_stress(
+            setup,
+            s.stresses(),
+            setup.tie.and_then(|_| s.quadratic_stresses()),
+        ),
         on_mesh_displacement(setup, s.displacement()),
     ))
 }
