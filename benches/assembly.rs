@@ -13,11 +13,16 @@
 //! 708: 1.0e5 and 1.0e6 elements, 2.0e5 and 2.0e6 nodes) with a 6×6
 //! isoparametric Laplace kernel written here (3-point rule, exact for
 //! straight-sided triangles), until tecon-fem has its own P2 kernels.
+//! P2 plane strain (`plane_strain12x12_p2`): the same meshes with the
+//! solver's kernel (`Triangle6::elasticity_stiffness`, 6-point degree-4
+//! rule, as for curved elements), pattern and fill.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
+use tecon::fem::quadrature::TriangleRule;
 use tecon::fem::reference::{ElasticSet, LaplaceSet};
 use tecon::fem::triangle::plane_strain_d;
+use tecon::fem::triangle6::Triangle6;
 use tecon::fem::{AssemblerBuilder, Element, LocalSystem, Parallelism};
 use tecon::mesh::quadratic::p2_shape_derivatives;
 use tecon::mesh::{rectangle, rectangle_of_order};
@@ -78,6 +83,32 @@ impl Element<6> for LaplaceP2Set<'_> {
             }
         }
         LocalSystem { matrix, vector }
+    }
+}
+
+/// Plane strain on 6-node triangles: ∫BᵀDB by the solver's degree-4 rule.
+struct ElasticP2Set<'a> {
+    nodes: &'a [[f64; 2]],
+    triangles: &'a [[usize; 6]],
+    d: nalgebra::Matrix3<f64>,
+}
+
+impl Element<12> for ElasticP2Set<'_> {
+    fn n_elements(&self) -> usize {
+        self.triangles.len()
+    }
+    #[inline]
+    fn dofs(&self, e: usize) -> [usize; 12] {
+        let t = self.triangles[e];
+        std::array::from_fn(|k| 2 * t[k / 2] + k % 2)
+    }
+    #[inline]
+    fn local(&self, e: usize) -> LocalSystem<12> {
+        let g = Triangle6::new(self.triangles[e].map(|v| self.nodes[v])).expect("valid element");
+        LocalSystem {
+            matrix: g.elasticity_stiffness(&self.d, TriangleRule::Degree4),
+            vector: SVector::<f64, 12>::zeros(),
+        }
     }
 }
 
@@ -155,6 +186,16 @@ fn assembly(c: &mut Criterion) {
         assert!(((u.transpose() * local.matrix * u)[0] - area).abs() < 1e-9 * area);
         assert!((local.vector.sum() - area).abs() < 1e-12);
         bench_kernel(c, "laplace6x6_p2", mesh.n_nodes(), &set, n);
+        let el = ElasticP2Set {
+            nodes: mesh.nodes(),
+            triangles: mesh.triangles6().expect("a P2 mesh"),
+            d: plane_strain_d(207e9, 0.3),
+        };
+        // rigid translations carry no force
+        let k = el.local(0).matrix;
+        let tx = SVector::<f64, 12>::from_fn(|i, _| if i % 2 == 0 { 1.0 } else { 0.0 });
+        assert!((k * tx).norm() < 1e-6 * k.norm());
+        bench_kernel(c, "plane_strain12x12_p2", 2 * mesh.n_nodes(), &el, n);
     }
 }
 

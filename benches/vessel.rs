@@ -9,6 +9,9 @@
 //! Sizes: the paper mesh (136 triangles; goal < 1 s) and the subdivision of
 //! the paper mesh closest to 10⁵ triangles (every interval in 27 parts:
 //! 99 144 triangles, 50 600 nodes, 459 interface elements; goal < 60 s).
+//! Order 2: the graded P2 mesh `graded(0)` (2 784 six-node triangles, the
+//! mesh of the accuracy study, docs/vessel.md §9) beside the linear level 2
+//! (the current default, 2 176 triangles).
 //! Before measuring, one run prints its Newton iterations and solves.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -20,6 +23,8 @@ fn vessel(c: &mut Criterion) {
     g.sample_size(10);
     for (name, spec) in [
         ("paper", Ok(VesselMeshSpec::paper())),
+        ("level2_p1", VesselMeshSpec::refined(2)),
+        ("graded0_p2", VesselMeshSpec::graded(0)),
         ("1e5_triangles", VesselMeshSpec::with_triangles(100_000)),
     ] {
         let spec = spec.expect("mesh spec");
