@@ -360,7 +360,14 @@ pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<Stri
         text += &format!("warning: {w}\n");
     }
     write(&out.join(REPORT_TEXT), &text)?;
-    print!("{text}");
-    println!("results in {}", out.display());
+    if args.quiet {
+        // nothing but the warnings (stderr); the report is in report.txt
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+    } else {
+        print!("{text}");
+        println!("results in {}", out.display());
+    }
     Ok(warnings)
 }

@@ -849,7 +849,9 @@ pub fn run(args: &crate::vessel::VesselArgs, n: usize) -> CliResult<Vec<String>>
     }
     let run = analyse(&o)?;
     let names = write_outputs(&run, &args.out)?;
-    print!("{}", report(&run));
-    println!("results in {}", args.out.display());
+    if !args.quiet {
+        print!("{}", report(&run));
+        println!("results in {}", args.out.display());
+    }
     Ok(names)
 }

@@ -731,7 +731,8 @@ pub struct VesselArgs {
     /// Output folder.
     #[arg(long, default_value = "tecon-out/vessel")]
     pub out: PathBuf,
-    /// No progress bar.
+    /// Print nothing but warnings and errors: no progress bar, no report on
+    /// the terminal (the report is in the output folder's report.txt).
     #[arg(long)]
     pub quiet: bool,
     /// Print the Newton iteration history of every increment.

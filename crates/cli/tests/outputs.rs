@@ -265,7 +265,14 @@ fn the_yield_check_names_the_regions_above_yield_and_the_peak() {
     let out = d.path().join("y");
     let o = vessel(&out, &["--times", "1,72000", "--yield", "250e6"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let text = String::from_utf8_lossy(&o.stdout);
+    // --quiet: nothing on stdout, the warnings on stderr, the report in report.txt
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("warning: after cooling"));
+    let text = std::fs::read_to_string(out.join("report.txt")).unwrap();
     assert!(
         text.contains("region weld: peak von Mises") && text.contains("EXCEEDED"),
         "{text}"
@@ -284,7 +291,8 @@ fn the_yield_check_names_the_regions_above_yield_and_the_peak() {
     assert!(weld["von_mises_max"].as_f64().unwrap() > 250e6);
     // without --yield: the peak and where, no warning
     let o = vessel(&d.path().join("n"), &["--times", "1,72000"]);
-    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(d.path().join("n/report.txt")).unwrap();
     assert!(
         text.contains("no yield stress given") && !text.contains("warning:"),
         "{text}"
@@ -294,7 +302,8 @@ fn the_yield_check_names_the_regions_above_yield_and_the_peak() {
         &d.path().join("p"),
         &["--times", "1,72000", "--pressure", "5e6"],
     );
-    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(d.path().join("p/report.txt")).unwrap();
     assert!(
         text.contains("operating pressure 5 MPa") && text.contains("pressure alone"),
         "{text}"
