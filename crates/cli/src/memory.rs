@@ -33,25 +33,11 @@ pub fn analysis_bytes(triangles: usize, order: usize) -> u64 {
     }
 }
 
-/// The process's address-space limit in bytes (`None`: unlimited or unknown).
-fn address_space_limit() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/self/limits").ok()?;
-    let line = text.lines().find(|l| l.starts_with("Max address space"))?;
-    // "Max address space   <soft>   <hard>   bytes"
-    let soft = line
-        .trim_start_matches("Max address space")
-        .split_whitespace()
-        .next()?;
-    soft.parse().ok()
-}
-
 /// Bytes a new allocation can get now: the smaller of `MemAvailable` and the
-/// address-space limit (`None` where neither can be read).
+/// address-space limit (`None` where neither can be read); the same reading
+/// the torsion solver checks its dense sizes against.
 pub fn available_bytes() -> Option<u64> {
-    match (tecon_mesh::available_memory_bytes(), address_space_limit()) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    }
+    tecon_wavelet_bem::memory::available_bytes()
 }
 
 fn gb(b: u64) -> String {
