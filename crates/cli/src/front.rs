@@ -371,3 +371,133 @@ pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<Stri
     }
     Ok(warnings)
 }
+
+/// The inputs of a `tecon vessel` run as the model resolves them (mesh size
+/// and element order, joint law and its parameters, materials, schedule,
+/// coupling), for the report's input table: defaults are shown by value,
+/// not as options left unset. Command lines that do not resolve (the error
+/// is reported by the run itself) and `--layers` runs list the options as
+/// given.
+pub fn vessel_inputs(args: &VesselArgs) -> Option<Vec<(String, String)>> {
+    if args.layers.is_some() {
+        return None;
+    }
+    let o = vessel::options(args).ok()?;
+    let g = &o.geometry;
+    let d = &o.data;
+    let mut rows: Vec<(String, String)> = Vec::new();
+    let mut row = |k: &str, v: String| rows.push((k.to_string(), v));
+    row(
+        "mesh",
+        format!(
+            "{} ({} triangles, order {}{})",
+            args.mesh,
+            o.mesh.n_triangles(),
+            o.mesh.order,
+            if o.mesh.fused_weld {
+                ", weld fused to the layer"
+            } else {
+                ""
+            }
+        ),
+    );
+    row(
+        "geometry",
+        format!(
+            "inner radius {} m, core {} m, layer {} m, weld half width {} m",
+            g.inner_radius, g.core_thickness, g.layer_thickness, g.weld_half_width
+        ),
+    );
+    row(
+        "analysis",
+        match o.analysis {
+            tecon_elastic::Analysis::PlaneStrain => "plane strain".into(),
+            other => format!("{other:?}"),
+        },
+    );
+    let joint = match o.interface {
+        crate::builtin::InterfaceKind::Frictional => format!(
+            "frictional: μ = {}, cohesion {} Pa, penalty factor {}{}",
+            o.friction,
+            o.cohesion,
+            o.penalty_factor,
+            match o.augmented_lagrangian {
+                Some(t) => format!(", augmented Lagrangian to {t}"),
+                None => ", pure penalty".into(),
+            }
+        ),
+        crate::builtin::InterfaceKind::Frictionless => format!(
+            "frictionless, penalty factor {}{}",
+            o.penalty_factor,
+            match o.augmented_lagrangian {
+                Some(t) => format!(", augmented Lagrangian to {t}"),
+                None => ", pure penalty".into(),
+            }
+        ),
+        crate::builtin::InterfaceKind::Bonded => "bonded (tied nodes)".into(),
+    };
+    row("core/layer joint", joint);
+    row(
+        "interface normals",
+        format!("{:?}", o.normals).to_lowercase(),
+    );
+    row(
+        "materials (all regions)",
+        format!(
+            "E = {} GPa, ν = {}, α = {:e} 1/K, k = {} W/(m K), ρ = {} kg/m³, c = {} J/(kg K)",
+            d.youngs_modulus / 1e9,
+            d.poisson_ratio,
+            d.expansion,
+            d.conductivity,
+            d.density,
+            d.specific_heat
+        ),
+    );
+    row(
+        "temperatures",
+        format!(
+            "weld {} °C at t = 0, rest and ambient {} °C, film {} W/(m² K)",
+            d.weld_temperature, d.ambient, d.film
+        ),
+    );
+    row(
+        "interface conductance",
+        if o.contact_conductance {
+            "contact law (pressure power law plus gas gap)".into()
+        } else {
+            format!("constant {} W/(m² K)", d.interface_conductance)
+        },
+    );
+    row(
+        "coupling",
+        match &o.two_way {
+            None => "one-way (heat conduction first, then the mechanics)".into(),
+            Some(t) => match t.sync_tolerance {
+                Some(tau) => format!("two-way, adaptive blocks (tolerance {tau})"),
+                None => format!(
+                    "two-way, {} thermal steps per contact solve",
+                    t.sync_interval
+                ),
+            },
+        },
+    );
+    row(
+        "output times",
+        o.times
+            .iter()
+            .map(|t| format!("{t} s"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    row(
+        "operating pressure",
+        match o.pressure {
+            Some(p) => format!("{p} Pa after cooling"),
+            None => "none".into(),
+        },
+    );
+    if let Some(s) = &args.study {
+        row("study", s.clone());
+    }
+    Some(rows)
+}

@@ -151,7 +151,7 @@ fn run(cli: Cli) -> Result<(), BoxErr> {
             let report = ReportInputs {
                 title: "tecon vessel: the welded monolayer vessel".into(),
                 command: format!("tecon {}", command_line()),
-                inputs: inputs_of(&c.args),
+                inputs: front::vessel_inputs(&c.args).unwrap_or_else(|| inputs_of(&c.args)),
                 ..Default::default()
             };
             in_folder(&out, c.folder.force, Some(report), || {

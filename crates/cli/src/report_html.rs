@@ -192,9 +192,9 @@ fn csv_table(text: &str) -> Option<String> {
 const STYLE: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',Roboto,'DejaVu Sans',sans-serif;margin:2em auto;max-width:1400px;padding:0 1.5em;color:#222;line-height:1.4}\
 h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:2px solid #ddd;padding-bottom:.2em;margin-top:2em}\
 code,pre{font-family:'DejaVu Sans Mono',Menlo,Consolas,monospace;font-size:.9em}\
-pre{background:#f6f6f6;padding:.8em;overflow-x:auto;border-radius:4px}\
+pre{background:#f6f6f6;padding:.8em;overflow-x:auto;white-space:pre-wrap;border-radius:4px}\
 table{border-collapse:collapse;margin:.5em 0;font-size:.9em}td,th{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
-th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}\
+th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}table.inputs td{text-align:left}\
 .warn{background:#fff3cd;border-left:5px solid #e0a800;padding:.5em 1em;margin:.4em 0}\
 .note{background:#eef5ff;border-left:5px solid #4a90d9;padding:.5em 1em;margin:.4em 0}\
 figure{margin:1.5em 0;border:1px solid #ddd;padding:.5em;border-radius:4px}figure svg{max-width:100%;height:auto;display:block}\
@@ -280,7 +280,7 @@ pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
     // Inputs.
     h += "<h2 id=\"inputs\">Inputs</h2>\n";
     if !r.inputs.is_empty() {
-        h += "<table><tbody>";
+        h += "<table class=\"inputs\"><tbody>";
         for (k, v) in &r.inputs {
             let _ = write!(h, "<tr><td>{}</td><td>{}</td></tr>", escape(k), escape(v));
         }

@@ -309,3 +309,36 @@ fn the_yield_check_names_the_regions_above_yield_and_the_peak() {
         "{text}"
     );
 }
+
+/// The report's input table shows the model as run: defaults by value (mesh
+/// size and order, the joint law with μ and cohesion, materials, output
+/// times), never an option left unset ("None").
+#[test]
+fn report_html_lists_the_resolved_inputs() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("v");
+    let o = vessel(&out, &["--times", "1,72000"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let start = html
+        .find("<table class=\"inputs\">")
+        .expect("an input table");
+    let table = &html[start..start + html[start..].find("</table>").unwrap()];
+    for want in [
+        "paper (136 triangles, order 1)",
+        "frictional: μ = 0.3, cohesion 0 Pa",
+        "E = 207 GPa",
+        "constant 850 W/(m² K)",
+        "one-way",
+        "1 s, 72000 s",
+    ] {
+        assert!(table.contains(want), "input table lacks {want:?}: {table}");
+    }
+    assert!(!table.contains("None"), "an unset option shown: {table}");
+    // a bonded run names its joint, and rejects nothing it should show
+    let out = d.path().join("b");
+    let o = vessel(&out, &["--times", "1,72000", "--interface", "bonded"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("bonded (tied nodes)"));
+}
