@@ -221,3 +221,42 @@ fn results_do_not_depend_on_the_thread_count() {
     assert_eq!(runs[0], runs[1]);
     assert_eq!(runs[0], runs[2]);
 }
+
+/// Issue #12: the default run's answers (level 2, order 1, μ = 0.3) are
+/// path independent — the Newton changes (front prediction, secant slip
+/// damping) must not move them: reference values to 1e-6 relative.
+/// High friction: μ = 1 (cohesion 0) converges on level 2; before the
+/// secant slip damping (switched on at the first status ping-pong of a
+/// pass) it stopped with "contact status ping-pong" in the first
+/// increment. Measured: 208 iterations, at most 59 per increment (the
+/// issue's goal of 40 is not met yet; μ = 2 still fails in the outer
+/// friction-limit loop).
+#[test]
+fn default_answers_stay_and_mu_1_converges_on_level_2() {
+    let (v, _) = run(VesselMeshSpec::refined(2).unwrap());
+    let reference = [
+        ("/final/hoop_mean/core_inner", -2164867.0139),
+        ("/final/hoop_mean/core_outer", -2131646.2969),
+        ("/final/hoop_mean/layer_inner", 4333583.0057),
+        ("/final/hoop_mean/layer_outer", 4299948.2182),
+        ("/final/contact_pressure_mean", 35183.126481),
+    ];
+    for (k, want) in reference {
+        let got = f(&v, k);
+        assert!(
+            ((got - want) / want).abs() < 1e-6,
+            "{k}: {got} against the reference {want}"
+        );
+    }
+    let o = VesselOptions {
+        mesh: VesselMeshSpec::refined(2).unwrap(),
+        friction: 1.0,
+        quiet: true,
+        ..Default::default()
+    };
+    let run = analyse(&o).expect("μ = 1 converges on level 2");
+    let v = summary(&run);
+    let per_increment = f(&v, "/newton/max_iterations_per_increment");
+    eprintln!("μ = 1, level 2: at most {per_increment} Newton iterations per increment");
+    assert!(per_increment <= 60.0, "{per_increment}");
+}

@@ -24,6 +24,14 @@ pub struct JointState {
     /// [`FrictionBound::Frozen`] puts in its limit `c + p_f tan φ`; updated
     /// only by [`ContactLaw::update_friction`].
     pub friction_pressure: f64,
+    /// Newton damping hook, never committed: when true, a slipping point of
+    /// a [`FrictionBound::Frozen`] law reports the secant shear stiffness
+    /// `k_s s / |τ_trial|` (between the stick value `k_s` and the exact 0)
+    /// as its tangent; the traction and the trial state do not change. A
+    /// solver sets it on a copy of the committed states, used only for the
+    /// tangent, at points whose stick/slip status oscillates between
+    /// Newton iterates.
+    pub secant_slip: bool,
 }
 
 /// Relative distance from the slip limit within which a slipping point of a
@@ -307,10 +315,11 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             // derivative at the kink. With the soft one, a Newton step that
             // turns the point back into stick overshoots and the line search
             // can only creep.
-            let k_t = if self.bound == FrictionBound::Frozen
-                && tau_trial.abs() - s <= KINK_TOLERANCE * s
-            {
+            let frozen = self.bound == FrictionBound::Frozen;
+            let k_t = if frozen && tau_trial.abs() - s <= KINK_TOLERANCE * s {
                 self.k_s
+            } else if frozen && committed.secant_slip {
+                self.k_s * s / tau_trial.abs()
             } else {
                 0.0
             };

@@ -426,6 +426,7 @@ fn zero_traction_when_open_even_with_cohesion() {
         accumulated_slip: 3.0e-6,
         lambda_n: 0.0,
         friction_pressure: 0.0,
+        ..Default::default()
     };
     let r = law.evaluate(&Vector2::new(-7.0e-6, 1.0e-8), &committed);
     assert_eq!(r.status, ContactStatus::Open);
@@ -510,6 +511,7 @@ fn augmented_lagrangian_update_removes_penetration_dependence() {
         accumulated_slip: 2e-6,
         lambda_n: 0.5e6,
         friction_pressure: 0.0,
+        ..Default::default()
     };
     let a = law.augment(&Vector2::new(0.0, -0.25e-6), &st);
     assert_relative_eq!(a.state.lambda_n, 0.75e6, max_relative = 1e-14);
@@ -663,4 +665,42 @@ fn frozen_bound_is_tresca_with_symmetric_tangent_and_its_fixed_point_is_coulomb(
     assert_eq!(open.state.friction_pressure, 0.0);
     let none = coupled.update_friction(&jump, &st);
     assert_eq!((none.state, none.multiplier_change), (st, 0.0));
+}
+
+#[test]
+fn secant_slip_changes_only_the_tangent_of_a_slipping_frozen_point() {
+    let frozen = friction_law(0.1e6, 30.0).with_friction_bound(FrictionBound::Frozen);
+    let jump = Vector2::new(30e-6, -2e-6);
+    let st = JointState {
+        friction_pressure: K * 1e-6,
+        ..Default::default()
+    };
+    let damped = JointState {
+        secant_slip: true,
+        ..st
+    };
+    let (exact, secant) = (frozen.evaluate(&jump, &st), frozen.evaluate(&jump, &damped));
+    assert_eq!(exact.status, ContactStatus::Slip);
+    assert_eq!(
+        (exact.traction, exact.status),
+        (secant.traction, secant.status)
+    );
+    assert_eq!(exact.state.slip, secant.state.slip);
+    assert_eq!(exact.tangent[(0, 0)], 0.0);
+    // k_s s / |τ_trial|: the slope of the chord from τ = 0 to the limit
+    let s = secant.traction.x.abs();
+    let tau_trial = frozen.k_s() * jump.x;
+    assert_relative_eq!(
+        secant.tangent[(0, 0)],
+        frozen.k_s() * s / tau_trial,
+        max_relative = 1e-14
+    );
+    assert!(secant.tangent[(0, 0)] > 0.0 && secant.tangent[(0, 0)] < frozen.k_s());
+    // the normal row and the shear–normal terms are those of the exact tangent
+    assert_eq!(exact.tangent[(1, 1)], secant.tangent[(1, 1)]);
+    assert_eq!(secant.tangent[(0, 1)], 0.0);
+    // a sticking point keeps k_s
+    let stick = frozen.evaluate(&Vector2::new(1e-9, -2e-6), &damped);
+    assert_eq!(stick.status, ContactStatus::Stick);
+    assert_eq!(stick.tangent[(0, 0)], frozen.k_s());
 }

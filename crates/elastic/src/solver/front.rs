@@ -126,6 +126,32 @@ impl StaticSolver<'_> {
     }
 }
 
+impl StaticSolver<'_> {
+    /// A copy of `committed` with [`tecon_contact::JointState::secant_slip`]
+    /// set at the flat points where `flags` is true (for the tangent only).
+    pub(super) fn with_secant_slip(
+        &self,
+        committed: &[PointStates],
+        flags: &[bool],
+    ) -> Vec<PointStates> {
+        let mut out = committed.to_vec();
+        let mut offset = 0;
+        for states in &mut out {
+            let per = states.per_element();
+            let n = states.as_slice().len();
+            for (i, _) in flags[offset..offset + n]
+                .iter()
+                .enumerate()
+                .filter(|f| *f.1)
+            {
+                states.element_mut(i / per)[i % per].secant_slip = true;
+            }
+            offset += n;
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

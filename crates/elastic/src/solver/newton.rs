@@ -35,6 +35,14 @@ impl StaticSolver<'_> {
         // that just opened, doubled after every kept prediction
         let mut reach = 1usize;
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
+        // points whose stick/slip status oscillated in this pass: their
+        // slipping tangent is the secant one from then on (see below)
+        let mut damped: Vec<bool> = Vec::new();
+        // The damping is a fallback: it starts at the first status pattern
+        // repeated two iterates later (a pass that converges without a
+        // repeat keeps the exact path, bit for bit), and the ping-pong guard
+        // then counts afresh, once.
+        let mut damping = false;
         while history.len() < opts.max_iterations {
             let it = history.len();
             let (kt, f_int) = self.tangent_and_force(&u, committed, true)?;
@@ -65,6 +73,30 @@ impl StaticSolver<'_> {
             let status: Vec<PointStatus> = status.iter().map(|s| s.0).collect();
             if prev2.as_ref().is_some_and(|p2| *p2 == status) && changed > 0 {
                 ping_pong += 1;
+                if !damping && opts.slip_damping {
+                    damping = true;
+                    ping_pong = 0;
+                }
+            }
+            // A point back where it was two iterates ago, via another
+            // status, with slip on one side: the exact slip tangent (0)
+            // sends it across the kink again and the line search stops it
+            // there — a zigzag of short steps (high friction). Such points
+            // take the secant slip stiffness k_s s/|τ_trial| until the
+            // statuses settle: a positive definite tangent, so still a
+            // descent direction for the exact energy line search, and the
+            // converged answer does not change.
+            if let (Some(p), Some(p2)) = (&prev, &prev2) {
+                damped.resize(status.len(), false);
+                for (i, s) in status.iter().enumerate() {
+                    let was = p[i].0;
+                    if *s == p2[i]
+                        && *s != was
+                        && (s.0 == ContactStatus::Slip || was.0 == ContactStatus::Slip)
+                    {
+                        damped[i] = true;
+                    }
+                }
             }
             let counts = count(&status);
             let last_correction = history.last().map_or(f64::INFINITY, |h| h.correction);
@@ -98,6 +130,16 @@ impl StaticSolver<'_> {
                     format!("contact status ping-pong ({ping_pong} repeats)"),
                     history,
                 ));
+            }
+            if changed == 0 {
+                // statuses settled: the exact tangent converges in one step
+                // (the secant one only linearly)
+                damped.fill(false);
+            }
+            if damping && damped.iter().any(|&d| d) {
+                let flagged = self.with_secant_slip(committed, &damped);
+                let (k2, _) = self.tangent_and_force(&u, &flagged, true)?;
+                kt = k2.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             }
             // Tangent in the rotated frame, homogeneous constraints on the correction.
             self.rotations.rotate_matrix(&mut kt);

@@ -107,6 +107,13 @@ pub struct SolverOptions {
     /// front together, kept only when they prove right. The converged
     /// answer is the same either way; only the path changes.
     pub front_prediction: bool,
+    /// Secant slip damping in the Newton passes, as a fallback: once a
+    /// status pattern repeats two iterates later (ping-pong), points whose
+    /// stick/slip status oscillates take the secant shear stiffness
+    /// `k_s s/|τ_trial|` in the tangent (never in the residual) until the
+    /// statuses settle. The converged answer is the same either way; only
+    /// the path of a pass that would ping-pong changes.
+    pub slip_damping: bool,
 }
 
 impl Default for SolverOptions {
@@ -123,6 +130,7 @@ impl Default for SolverOptions {
             friction_bound: FrictionBound::Frozen,
             friction_tolerance: 1e-4,
             front_prediction: true,
+            slip_damping: true,
         }
     }
 }
