@@ -306,10 +306,7 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
 /// warnings for `report.html`.
 pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<String>> {
     if let Some(n) = args.layers {
-        if yield_stress.is_some() {
-            return Err("--yield is not available with --layers yet".into());
-        }
-        return crate::multilayer::run(&args, n);
+        return crate::multilayer::run(&args, n, yield_stress);
     }
     let base = vessel::options(&args)?;
     if let Some(s) = args.study.as_deref() {
@@ -379,8 +376,8 @@ pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<Stri
 /// is reported by the run itself) and `--layers` runs list the options as
 /// given.
 pub fn vessel_inputs(args: &VesselArgs) -> Option<Vec<(String, String)>> {
-    if args.layers.is_some() {
-        return None;
+    if let Some(n) = args.layers {
+        return multilayer_inputs(args, n);
     }
     let o = vessel::options(args).ok()?;
     let g = &o.geometry;
@@ -499,5 +496,80 @@ pub fn vessel_inputs(args: &VesselArgs) -> Option<Vec<(String, String)>> {
     if let Some(s) = &args.study {
         row("study", s.clone());
     }
+    Some(rows)
+}
+
+/// The inputs of a `tecon vessel --layers N` run as resolved (see
+/// [`vessel_inputs`]).
+fn multilayer_inputs(args: &VesselArgs, n: usize) -> Option<Vec<(String, String)>> {
+    let o =
+        crate::multilayer::MultilayerOptions::new(n, args.layer_thickness, args.seams.as_deref())
+            .ok()?;
+    let g = &o.geometry;
+    let mut rows: Vec<(String, String)> = Vec::new();
+    let mut row = |k: &str, v: String| rows.push((k.to_string(), v));
+    row(
+        "section",
+        format!(
+            "core: inner radius {} m, thickness {} m; {n} layers ({} section)",
+            g.inner_radius,
+            g.core_thickness,
+            if o.half_section() { "half" } else { "full" }
+        ),
+    );
+    for (k, l) in g.layers.iter().enumerate() {
+        row(
+            &format!("layer {}", k + 1),
+            format!(
+                "thickness {} m, weld half width {} m, seam at {}°",
+                l.thickness,
+                l.weld_half_width,
+                crate::plot::fmt_value(l.seam_angle.to_degrees())
+            ),
+        );
+    }
+    row(
+        "joints",
+        format!(
+            "frictional: μ = {}, cohesion 0 Pa, k_s/k_n = {}",
+            args.friction.unwrap_or(o.friction),
+            o.effective_shear_ratio()
+        ),
+    );
+    let d = &o.data;
+    row(
+        "materials (all regions)",
+        format!(
+            "E = {} GPa, ν = {}, α = {:e} 1/K, k = {} W/(m K), ρ = {} kg/m³, c = {} J/(kg K)",
+            d.youngs_modulus / 1e9,
+            d.poisson_ratio,
+            d.expansion,
+            d.conductivity,
+            d.density,
+            d.specific_heat
+        ),
+    );
+    row(
+        "temperatures",
+        format!(
+            "each weld {} °C when welded, rest and ambient {} °C, film {} W/(m² K)",
+            d.weld_temperature, d.ambient, d.film
+        ),
+    );
+    row(
+        "output times of each stage",
+        args.times
+            .iter()
+            .map(|t| format!("{t} s"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    row(
+        "operating pressure",
+        match args.pressure {
+            Some(p) => format!("{p} Pa after the last layer"),
+            None => "none".into(),
+        },
+    );
     Some(rows)
 }

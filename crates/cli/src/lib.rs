@@ -33,6 +33,7 @@ pub mod front;
 pub mod memory;
 pub mod mesh_cmd;
 pub mod multilayer;
+pub mod multilayer_out;
 pub mod outdir;
 pub mod plot;
 pub mod probes;

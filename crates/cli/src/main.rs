@@ -149,7 +149,10 @@ fn run(cli: Cli) -> Result<(), BoxErr> {
             }
             let out = c.args.out.clone();
             let report = ReportInputs {
-                title: "tecon vessel: the welded monolayer vessel".into(),
+                title: match c.args.layers {
+                    Some(n) => format!("tecon vessel: the welded multilayer vessel ({n} layers)"),
+                    None => "tecon vessel: the welded monolayer vessel".into(),
+                },
                 command: format!("tecon {}", command_line()),
                 inputs: front::vessel_inputs(&c.args).unwrap_or_else(|| inputs_of(&c.args)),
                 ..Default::default()

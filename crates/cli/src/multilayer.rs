@@ -24,9 +24,7 @@
 //! (1 + ν) α ΔT w / 2π of every weld.
 
 use std::f64::consts::PI;
-use std::path::Path;
 
-use serde_json::{Value, json};
 use tecon_contact::{GhaboussiNormal, PaperJoint};
 use tecon_elastic::analytical::{Cylinders, LameCylinder, SequentialShrinkFit};
 use tecon_elastic::{
@@ -40,7 +38,9 @@ use tecon_thermal::{EdgeBc, ThermalModel, ThetaScheme};
 
 use crate::builtin::{VesselData, schedule};
 use crate::driver::State;
-use crate::writers::{self, CliResult, csv, write_state_vtu};
+use crate::writers::CliResult;
+
+pub use crate::multilayer_out::{report, stage_summary, summary, write_outputs};
 
 /// Everything a multilayer run needs.
 #[derive(Debug, Clone, PartialEq)]
@@ -382,9 +382,10 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
     let mut references: Vec<Vec<f64>> = Vec::new();
     let mut previous = SolverState::unloaded(2 * mesh.n_nodes());
     let mut stages = Vec::new();
+    let n_stages = n + usize::from(o.pressure.is_some());
     for k in 1..=n {
         if !o.quiet {
-            eprintln!("stage {k}/{n}: layer {k} wrapped, weld {k} cooling");
+            eprintln!("stage {k}/{n_stages}: layer {k} wrapped, weld {k} cooling");
         }
         let times = o.stage_output_times(k)?;
         let end = times[times.len() - 1];
@@ -476,7 +477,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
     }
     if let Some(p) = o.pressure {
         if !o.quiet {
-            eprintln!("stage {}/{}: internal pressure {p:e} Pa", n + 1, n + 1);
+            eprintln!("stage {}/{n_stages}: internal pressure {p:e} Pa", n + 1);
         }
         let last = stages.last().ok_or("no layer stage")?;
         let model = stage_elastic_model(o, &mesh, n, &references)?.pressure("inner", p)?;
@@ -530,7 +531,8 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
     })
 }
 
-fn in_ring(name: &str, ring: usize) -> bool {
+/// Whether region `name` belongs to ring `ring` (0 = core; k = layer k and weld k).
+pub fn in_ring(name: &str, ring: usize) -> bool {
     if ring == 0 {
         name == "core"
     } else {
@@ -583,240 +585,14 @@ pub fn mean_pressure(points: &[InterfacePointResult], index: usize) -> f64 {
     if w > 0.0 { s / w } else { 0.0 }
 }
 
-/// Hoop-stress rows through the wall after stage `k`: per ring and node
-/// row, (ring, r, circumferential mean of the nodal σ_θθ, model).
-fn hoop_rows(run: &MultilayerRun, stage: usize) -> Vec<Vec<f64>> {
-    let mesh = &run.mesh;
-    let st = &run.stages[stage - 1];
-    let s = &st.state.stress;
-    let k = st.layers;
-    let lame = wall_lame(&run.options, st.pressure);
-    let radii = run.options.geometry.radii();
-    let mut rows = Vec::new();
-    for ring in 0..=k {
-        let ring_name = if ring == 0 {
-            "core".to_string()
-        } else {
-            format!("layer{ring}")
-        };
-        let Some(body) = mesh
-            .bodies()
-            .iter()
-            .find(|b| b.name.split('+').any(|n| n == ring_name))
-        else {
-            continue;
-        };
-        let rows_n = if ring == 0 {
-            run.options.spec.core_rows
-        } else {
-            run.options.spec.layer_rows
-        };
-        for j in 0..=rows_n {
-            let r = radii[ring] + (radii[ring + 1] - radii[ring]) * j as f64 / rows_n as f64;
-            let (mut sum, mut cnt) = (0.0, 0.0);
-            for &v in &body.nodes {
-                let p = mesh.nodes()[v];
-                if (p[0].hypot(p[1]) - r).abs() < 1e-9 * r {
-                    sum += polar(s.nodal[v], p, [0.0; 2])[1];
-                    cnt += 1.0;
-                }
-            }
-            let mean = if cnt > 0.0 { sum / cnt } else { f64::NAN };
-            let pressure_part = if st.pressure == 0.0 {
-                0.0
-            } else {
-                lame.sigma_tt(r)
-            };
-            rows.push(vec![
-                ring as f64,
-                r,
-                mean,
-                run.fit.sigma_tt(k, ring, r) + pressure_part,
-            ]);
-        }
-    }
-    rows
-}
-
-/// The summary of stage `stage` (1-based) as JSON (SI units).
-pub fn stage_summary(run: &MultilayerRun, stage: usize) -> Value {
-    let st = &run.stages[stage - 1];
-    let k = st.layers;
-    let rings: Vec<Value> = (0..=k)
-        .map(|r| {
-            let (fe, an) = (st.ring_means[r], st.analytical_means[r]);
-            json!({
-                "ring": if r == 0 { "core".to_string() } else { format!("layer{r}") },
-                "mean_hoop_fe": fe,
-                "mean_hoop_analytical": an,
-                "relative_error": (fe - an) / an,
-            })
-        })
-        .collect();
-    let interfaces: Vec<Value> = (1..=k)
-        .map(|j| {
-            let (fe, an) = (st.pressures[j - 1], st.analytical_pressures[j - 1]);
-            json!({
-                "interface": interface_name(j),
-                "mean_pressure_fe": fe,
-                "pressure_analytical": an,
-                "relative_error": (fe - an) / an,
-            })
-        })
-        .collect();
-    json!({
-        "stage": stage,
-        "kind": if st.pressure == 0.0 { "layer" } else { "pressure" },
-        "layers_active": k,
-        "internal_pressure": st.pressure,
-        "rings": rings,
-        "interfaces": interfaces,
-        "newton_iterations": st.newton_iterations,
-        "thermal_steps": st.thermal_steps,
-        "max_heat_balance_residual": st.heat_balance,
-        "end_time_s": st.state.time,
-    })
-}
-
-/// The summary of the whole run.
-pub fn summary(run: &MultilayerRun) -> Value {
-    let g = &run.options.geometry;
-    let worst = run
-        .stages
-        .iter()
-        .flat_map(|s| {
-            (0..=s.layers).map(move |r| {
-                ((s.ring_means[r] - s.analytical_means[r]) / s.analytical_means[r]).abs()
-            })
-        })
-        .fold(0.0, f64::max);
-    json!({
-        "geometry": {
-            "inner_radius": g.inner_radius,
-            "core_thickness": g.core_thickness,
-            "layers": g.layers.iter().map(|l| json!({
-                "thickness": l.thickness,
-                "weld_half_width": l.weld_half_width,
-                "seam_angle_deg": l.seam_angle.to_degrees(),
-            })).collect::<Vec<_>>(),
-            "half_section": run.options.half_section(),
-            "internal_pressure": run.options.pressure,
-            "shear_penalty_ratio": run.options.effective_shear_ratio(),
-        },
-        "mesh": { "triangles": run.mesh.n_triangles(), "nodes": run.mesh.n_nodes() },
-        "stages": (1..=run.stages.len()).map(|k| stage_summary(run, k)).collect::<Vec<_>>(),
-        "max_relative_error_ring_means": worst,
-    })
-}
-
-/// Writes every stage's files and the summaries into `dir`.
-pub fn write_outputs(run: &MultilayerRun, dir: &Path) -> CliResult<Vec<String>> {
-    let mut names = Vec::new();
-    writers::staged(dir, |tmp| {
-        let mut pvd = Vec::new();
-        for k in 1..=run.stages.len() {
-            let st = &run.stages[k - 1];
-            let name = format!("stage{k}_hoop_through_wall.csv");
-            csv(
-                &tmp.join(&name),
-                "ring,r_m,hoop_fe_mean_Pa,hoop_analytical_Pa",
-                hoop_rows(run, k),
-            )?;
-            names.push(name);
-            let name = format!("stage{k}_interface_pressure.csv");
-            let rows = st.state.interface.iter().map(|p| {
-                vec![
-                    p.interface as f64 + 1.0,
-                    p.position[1].atan2(p.position[0]).to_degrees(),
-                    -p.traction[1],
-                    p.traction[0],
-                    writers::status_code(p.status),
-                ]
-            });
-            csv(
-                &tmp.join(&name),
-                "interface_below_layer,theta_deg,pressure_Pa,shear_Pa,status",
-                rows,
-            )?;
-            names.push(name);
-            let name = format!("multilayer_{k:03}.vtu");
-            write_state_vtu(&run.mesh, &tmp.join(&name), &st.state)?;
-            pvd.push((k as f64, name.clone()));
-            names.push(name);
-            let name = format!("stage{k}_summary.json");
-            writers::write(
-                &tmp.join(&name),
-                &serde_json::to_string_pretty(&stage_summary(run, k))?,
-            )?;
-            names.push(name);
-        }
-        tecon_mesh::vtk::write_pvd(tmp.join("multilayer.pvd"), &pvd)?;
-        names.push("multilayer.pvd".into());
-        writers::write(
-            &tmp.join("summary.json"),
-            &serde_json::to_string_pretty(&summary(run))?,
-        )?;
-        names.push("summary.json".into());
-        Ok(names.clone())
-    })?;
-    Ok(names)
-}
-
-/// A short text report.
-pub fn report(run: &MultilayerRun) -> String {
-    let mut s = format!(
-        "multilayer vessel: {} layers, {} triangles ({}), {:.1} s\n",
-        run.stages.len(),
-        run.mesh.n_triangles(),
-        if run.options.half_section() {
-            "half section"
-        } else {
-            "full section"
-        },
-        run.seconds
-    );
-    for (i, st) in run.stages.iter().enumerate() {
-        let k = st.layers;
-        let what = if st.pressure == 0.0 {
-            format!("layer {k} welded")
-        } else {
-            format!("internal pressure {:.3} MPa", st.pressure / 1e6)
-        };
-        s += &format!(
-            "stage {} ({what}): {} Newton iterations, {} thermal steps\n",
-            i + 1,
-            st.newton_iterations,
-            st.thermal_steps
-        );
-        for r in 0..=k {
-            let an = st.analytical_means[r];
-            s += &format!(
-                "  {:>7} mean hoop {:>9.4} MPa (closed form {:>9.4} MPa, {:+.2} %)\n",
-                if r == 0 {
-                    "core".into()
-                } else {
-                    format!("layer{r}")
-                },
-                st.ring_means[r] / 1e6,
-                an / 1e6,
-                100.0 * (st.ring_means[r] - an) / an
-            );
-        }
-        for j in 1..=k {
-            let an = st.analytical_pressures[j - 1];
-            s += &format!(
-                "  {:>13} mean pressure {:.5} MPa (closed form {:.5} MPa)\n",
-                interface_name(j),
-                st.pressures[j - 1] / 1e6,
-                an / 1e6
-            );
-        }
-    }
-    s
-}
-
 /// `tecon vessel --layers N …`: builds the options, runs, writes, reports.
-pub fn run(args: &crate::vessel::VesselArgs, n: usize) -> CliResult<Vec<String>> {
+/// Returns the warnings (a yield stress exceeded). The printed report is
+/// also saved as `report.txt`; `--quiet` prints nothing but the warnings.
+pub fn run(
+    args: &crate::vessel::VesselArgs,
+    n: usize,
+    yield_stress: Option<f64>,
+) -> CliResult<Vec<String>> {
     let unsupported = [
         ("--fused-weld", args.fused_weld),
         ("--free-ends", args.free_ends),
@@ -828,6 +604,10 @@ pub fn run(args: &crate::vessel::VesselArgs, n: usize) -> CliResult<Vec<String>>
         ("--cohesion", args.cohesion.is_some_and(|c| c != 0.0)),
         ("--interface", args.interface != "frictional"),
         ("--order", args.order.is_some_and(|o| o != 1)),
+        (
+            "--mesh (the multilayer mesh has its own density)",
+            args.mesh != "2",
+        ),
     ];
     if let Some((name, _)) = unsupported.iter().find(|(_, on)| *on) {
         return Err(format!("{name} is not available with --layers yet").into());
@@ -848,10 +628,38 @@ pub fn run(args: &crate::vessel::VesselArgs, n: usize) -> CliResult<Vec<String>>
         o.pressure = Some(p);
     }
     let run = analyse(&o)?;
-    let names = write_outputs(&run, &args.out)?;
-    if !args.quiet {
-        print!("{}", report(&run));
+    write_outputs(&run, &args.out)?;
+    let mut text = report(&run);
+    let mut warnings = Vec::new();
+    let y = |_: &str| yield_stress;
+    for (k, st) in run.stages.iter().enumerate() {
+        let mut check = crate::yield_check::check(&run.mesh, &st.state.stress, &y);
+        // the layers not wrapped yet carry no stress: not part of the check
+        check
+            .regions
+            .retain(|r| (0..=st.layers).any(|ring| in_ring(&r.region, ring)));
+        text += &format!("yield check after stage {}:\n", k + 1);
+        for l in check.lines(true) {
+            text += &format!("  {l}\n");
+        }
+        warnings.extend(
+            check
+                .warnings()
+                .into_iter()
+                .map(|w| format!("stage {}: {w}", k + 1)),
+        );
+    }
+    for w in &warnings {
+        text += &format!("warning: {w}\n");
+    }
+    crate::writers::write(&args.out.join(crate::report_html::REPORT_TEXT), &text)?;
+    if args.quiet {
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+    } else {
+        print!("{text}");
         println!("results in {}", args.out.display());
     }
-    Ok(names)
+    Ok(warnings)
 }

@@ -476,3 +476,120 @@ times = [72000.0]
         "{e}"
     );
 }
+
+/// `tecon vessel --layers 2 --yield …`: the run's own outputs as a user sees
+/// them. Goal: the report (also report.txt) names the layer count, not the
+/// stage count; a yield stress below the weld's stress gives warnings on
+/// stderr and in report.html, and nothing else is called a warning (the
+/// file list once was); every stage has its two figures; the interface CSV
+/// has one row per point, sorted by interface and angle; the through-wall
+/// CSV holds element-row means whose area/r-weighted mean is the ring mean
+/// of the summary; a `--mesh` the multilayer run would ignore is refused.
+#[test]
+fn the_layers_run_reports_yield_figures_and_sorted_csvs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ml");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args([
+            "vessel",
+            "--layers",
+            "2",
+            "--seams",
+            "0,180",
+            "--times",
+            "72000",
+            "--pressure",
+            "1e7",
+            "--yield",
+            "500e6",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(o.stdout.is_empty(), "--quiet prints nothing on stdout");
+    assert!(
+        err.contains(
+            "warning: stage 1: von Mises stress above the yield stress (500.0 MPa) in region weld1"
+        ),
+        "{err}"
+    );
+    // stage 1 has one layer: layer 2 is not checked before it is wrapped
+    assert!(
+        !err.contains(
+            "stage 1: von Mises stress above the yield stress (500.0 MPa) in region layer2"
+        )
+    );
+    let text = std::fs::read_to_string(out.join("report.txt")).unwrap();
+    assert!(text.starts_with("multilayer vessel: 2 layers"), "{text}");
+    assert!(text.contains("yield check after stage 3:"), "{text}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("the welded multilayer vessel (2 layers)"));
+    let warnings =
+        &html[html.find("id=\"warnings\"").unwrap()..html.find("id=\"inputs\"").unwrap()];
+    assert!(
+        !warnings.contains(".csv") && !warnings.contains(".vtu"),
+        "{warnings}"
+    );
+    assert!(warnings.contains("weld1"), "{warnings}");
+    for k in 1..=3 {
+        for f in ["hoop_through_wall", "interface_pressure"] {
+            for ext in ["svg", "png", "csv"] {
+                let name = format!("stage{k}_{f}.{ext}");
+                assert!(out.join(&name).is_file(), "{name}");
+            }
+        }
+    }
+    // interface rows: sorted by (interface, θ), one per point
+    let csv = std::fs::read_to_string(out.join("stage3_interface_pressure.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 20);
+    for w in rows.windows(2) {
+        let (a, b) = (&w[0], &w[1]);
+        assert!(
+            a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]),
+            "not sorted or a point twice: {a:?} then {b:?}"
+        );
+    }
+    assert!(rows.iter().any(|r| r[0] == 2.0), "both interfaces listed");
+    // element-row means against the summary's ring means (same weights)
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("stage2_summary.json")).unwrap())
+            .unwrap();
+    let wall = std::fs::read_to_string(out.join("stage2_hoop_through_wall.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = wall
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    for ring in 0..=2usize {
+        let band: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == ring as f64).collect();
+        assert!(band.len() >= 2, "ring {ring}: {} rows", band.len());
+        let fe = s["rings"][ring]["mean_hoop_fe"].as_f64().unwrap();
+        let an = s["rings"][ring]["mean_hoop_analytical"].as_f64().unwrap();
+        for r in &band {
+            // each element row is within 2 % of the ring's closed form
+            // (no node-row zig-zag), and the closed form column is smooth
+            assert!(
+                ((r[2] - an) / an).abs() < 0.02,
+                "ring {ring}: {r:?}, mean {fe}"
+            );
+            assert!(((r[3] - an) / an).abs() < 0.02, "ring {ring}: {r:?}");
+        }
+    }
+    // a mesh option the multilayer run cannot honour is refused, not ignored
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args(["vessel", "--layers", "2", "--mesh", "4", "--quiet", "--out"])
+        .arg(dir.path().join("m4"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--mesh"));
+}
