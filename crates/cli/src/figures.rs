@@ -378,24 +378,24 @@ pub const INTERFACE_HEADER: [&str; 9] = [
     "status (0 open; 1 stick; 2 slip)",
 ];
 
+/// The values of one interface row in the order of [`INTERFACE_HEADER`].
+pub fn interface_values(r: &InterfaceRow) -> Vec<f64> {
+    vec![
+        r.theta_deg,
+        r.position[0],
+        r.position[1],
+        r.jump_t,
+        r.jump_n,
+        r.shear,
+        r.pressure,
+        r.slip,
+        f64::from(r.status),
+    ]
+}
+
 /// The interface CSV: one row per interface point, sorted by θ.
 pub fn interface_csv(rows: &[InterfaceRow]) -> String {
-    csv_text(
-        &INTERFACE_HEADER,
-        rows.iter().map(|r| {
-            vec![
-                r.theta_deg,
-                r.position[0],
-                r.position[1],
-                r.jump_t,
-                r.jump_n,
-                r.shear,
-                r.pressure,
-                r.slip,
-                f64::from(r.status),
-            ]
-        }),
-    )
+    csv_text(&INTERFACE_HEADER, rows.iter().map(interface_values))
 }
 
 /// The interface after cooling: contact pressure against the consistent

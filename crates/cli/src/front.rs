@@ -438,18 +438,7 @@ pub fn vessel_inputs(args: &VesselArgs) -> Option<Vec<(String, String)>> {
         "interface normals",
         format!("{:?}", o.normals).to_lowercase(),
     );
-    row(
-        "materials (all regions)",
-        format!(
-            "E = {} GPa, ν = {}, α = {:e} 1/K, k = {} W/(m K), ρ = {} kg/m³, c = {} J/(kg K)",
-            d.youngs_modulus / 1e9,
-            d.poisson_ratio,
-            d.expansion,
-            d.conductivity,
-            d.density,
-            d.specific_heat
-        ),
-    );
+    row("materials (all regions)", material_text(d));
     row(
         "temperatures",
         format!(
@@ -478,14 +467,7 @@ pub fn vessel_inputs(args: &VesselArgs) -> Option<Vec<(String, String)>> {
             },
         },
     );
-    row(
-        "output times",
-        o.times
-            .iter()
-            .map(|t| format!("{t} s"))
-            .collect::<Vec<_>>()
-            .join(", "),
-    );
+    row("output times", times_text(&o.times));
     row(
         "operating pressure",
         match o.pressure {
@@ -537,18 +519,7 @@ fn multilayer_inputs(args: &VesselArgs, n: usize) -> Option<Vec<(String, String)
         ),
     );
     let d = &o.data;
-    row(
-        "materials (all regions)",
-        format!(
-            "E = {} GPa, ν = {}, α = {:e} 1/K, k = {} W/(m K), ρ = {} kg/m³, c = {} J/(kg K)",
-            d.youngs_modulus / 1e9,
-            d.poisson_ratio,
-            d.expansion,
-            d.conductivity,
-            d.density,
-            d.specific_heat
-        ),
-    );
+    row("materials (all regions)", material_text(d));
     row(
         "temperatures",
         format!(
@@ -556,14 +527,7 @@ fn multilayer_inputs(args: &VesselArgs, n: usize) -> Option<Vec<(String, String)
             d.weld_temperature, d.ambient, d.film
         ),
     );
-    row(
-        "output times of each stage",
-        args.times
-            .iter()
-            .map(|t| format!("{t} s"))
-            .collect::<Vec<_>>()
-            .join(", "),
-    );
+    row("output times of each stage", times_text(&args.times));
     row(
         "operating pressure",
         match args.pressure {
@@ -572,4 +536,26 @@ fn multilayer_inputs(args: &VesselArgs, n: usize) -> Option<Vec<(String, String)
         },
     );
     Some(rows)
+}
+
+/// The published material data as one line of the report's input table.
+fn material_text(d: &crate::builtin::VesselData) -> String {
+    format!(
+        "E = {} GPa, ν = {}, α = {:e} 1/K, k = {} W/(m K), ρ = {} kg/m³, c = {} J/(kg K)",
+        d.youngs_modulus / 1e9,
+        d.poisson_ratio,
+        d.expansion,
+        d.conductivity,
+        d.density,
+        d.specific_heat
+    )
+}
+
+/// Output times as "1 s, 10 s, …".
+fn times_text(times: &[f64]) -> String {
+    times
+        .iter()
+        .map(|t| format!("{t} s"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

@@ -119,19 +119,9 @@ pub fn summary(run: &MultilayerRun) -> Value {
     })
 }
 
-/// Header of the per-stage interface CSVs.
-pub const STAGE_INTERFACE_HEADER: [&str; 10] = [
-    "interface (1: core/layer 1, k: layer k-1/layer k)",
-    "theta_deg",
-    "x_m",
-    "y_m",
-    "jump_t_m",
-    "jump_n_m",
-    "shear_Pa",
-    "contact_pressure_Pa",
-    "slip_m",
-    "status (0 open; 1 stick; 2 slip)",
-];
+/// First column of the per-stage interface CSVs (then
+/// [`figures::INTERFACE_HEADER`]).
+pub const STAGE_INTERFACE_COLUMN: &str = "interface (1: core/layer 1, k: layer k-1/layer k)";
 
 /// The interface points of stage `k` (1-based): one row per point, merged
 /// where two elements meet, sorted by interface and then by θ about the
@@ -293,20 +283,15 @@ pub fn write_outputs(run: &MultilayerRun, dir: &Path) -> CliResult<Vec<String>> 
             writers::write(
                 &tmp.join(&name),
                 &figures::csv_text(
-                    &STAGE_INTERFACE_HEADER,
+                    &[
+                        &[STAGE_INTERFACE_COLUMN][..],
+                        &figures::INTERFACE_HEADER[..],
+                    ]
+                    .concat(),
                     rows.iter().map(|r| {
-                        vec![
-                            (r.interface + 1) as f64,
-                            r.theta_deg,
-                            r.position[0],
-                            r.position[1],
-                            r.jump_t,
-                            r.jump_n,
-                            r.shear,
-                            r.pressure,
-                            r.slip,
-                            f64::from(r.status),
-                        ]
+                        let mut v = vec![(r.interface + 1) as f64];
+                        v.extend(figures::interface_values(r));
+                        v
                     }),
                 ),
             )?;
