@@ -130,14 +130,39 @@ fn in_folder(
 }
 
 fn inputs_of(args: &impl std::fmt::Debug) -> Vec<(String, String)> {
-    // one row per option, from the parsed arguments
+    // one row per option given a value, from the parsed arguments: options
+    // left unset (None) are not inputs; values are shown without Rust's
+    // quotes, and nested values (Some( … ), lists, tables) as their lines
     let text = format!("{args:#?}");
-    text.lines()
-        .map(str::trim)
-        .filter_map(|l| l.split_once(": "))
-        .map(|(k, v)| (k.to_string(), v.trim_end_matches(',').to_string()))
-        .filter(|(_, v)| !v.ends_with('{') && !v.ends_with('['))
-        .collect()
+    let mut rows: Vec<(String, String)> = Vec::new();
+    let mut open: Option<(String, String)> = None;
+    for l in text.lines().skip(1).map(str::trim) {
+        if let Some((k, v)) = open.as_mut() {
+            if l == ")," || l == "]," || l == "}," {
+                rows.push((std::mem::take(k), std::mem::take(v)));
+                open = None;
+            } else {
+                if !v.is_empty() {
+                    v.push(' ');
+                }
+                v.push_str(l.trim_end_matches(',').trim_matches('"'));
+            }
+            continue;
+        }
+        let Some((k, v)) = l.split_once(": ") else {
+            continue;
+        };
+        let v = v.trim_end_matches(',');
+        if v == "None" {
+            continue;
+        }
+        if v.ends_with('(') || v.ends_with('[') || v.ends_with('{') {
+            open = Some((k.to_string(), String::new()));
+            continue;
+        }
+        rows.push((k.to_string(), v.trim_matches('"').to_string()));
+    }
+    rows
 }
 
 fn run(cli: Cli) -> Result<(), BoxErr> {

@@ -342,3 +342,31 @@ fn report_html_lists_the_resolved_inputs() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("bonded (tied nodes)"));
 }
+
+/// Other commands' input tables list the options given a value, shown as a
+/// user writes them: no unset options ("None"), no Rust syntax ("Some(",
+/// quotes).
+#[test]
+fn torsion_report_lists_its_options_as_written() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("t");
+    let o = tecon()
+        .args(["torsion", "--section", "ellipse:a=1,b=0.5", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let start = html
+        .find("<table class=\"inputs\">")
+        .expect("an input table");
+    let table = &html[start..start + html[start..].find("</table>").unwrap()];
+    assert!(
+        table.contains("<td>section</td><td>ellipse:a=1,b=0.5</td>"),
+        "{table}"
+    );
+    assert!(table.contains(&format!("<td>out</td><td>{}</td>", out.display())));
+    for bad in ["None", "Some(", "&quot;"] {
+        assert!(!table.contains(bad), "{bad} in {table}");
+    }
+}
