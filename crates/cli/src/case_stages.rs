@@ -383,6 +383,6 @@ pub fn run(case: &StagedCase, out: &Path) -> CliResult<String> {
     let o = options(case)?;
     let f = &case.source;
     let run = multilayer::analyse(&o).map_err(|e| err(f, e))?;
-    multilayer::write_outputs(&run, out)?;
-    Ok(multilayer::report(&run))
+    crate::multilayer_out::write_outputs(&run, out)?;
+    Ok(crate::multilayer_out::report(&run))
 }

@@ -306,7 +306,7 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
 /// warnings for `report.html`.
 pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<String>> {
     if let Some(n) = args.layers {
-        return crate::multilayer::run(&args, n, yield_stress);
+        return crate::multilayer_out::run(&args, n, yield_stress);
     }
     let base = vessel::options(&args)?;
     if let Some(s) = args.study.as_deref() {
