@@ -157,7 +157,15 @@ impl<N: NormalLaw> ContactLaw for ElasticJoint<N> {
 /// at all, whatever the cohesion (`k_n = k_s = 0`); the faces slide freely,
 /// so `g_s` follows `Δu_t` and the shear spring is unstretched when the
 /// faces close again (this free sliding is not added to
-/// [`JointState::accumulated_slip`]). With a bilateral normal law
+/// [`JointState::accumulated_slip`]). Exception, [`FrictionBound::Frozen`]:
+/// a point whose stored pressure `p_f` is positive keeps the friction part
+/// `p_f tan φ` of its limit (not the cohesion) while open, as a Tresca
+/// shear (return mapping as above, normal traction 0), so the shear
+/// traction is continuous at opening and a Newton pass minimises a convex
+/// energy with a continuous gradient (a limit that vanished at opening made
+/// the exact line search stop at the kink of points about to open). At the
+/// fixed point of the passes an open point has `p_f = 0` (the pressure it
+/// carries) and transmits nothing, as above. With a bilateral normal law
 /// ([`crate::LinearNormal`]) the strength falls linearly in tension and is
 /// cut off at zero beyond the apex `σ = c / tan φ`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -240,6 +248,23 @@ impl<N: NormalLaw> MohrCoulomb<N> {
     pub fn strength(&self, sigma: f64) -> f64 {
         (self.cohesion - sigma * self.tan_phi).max(0.0)
     }
+
+    /// Tresca return mapping with limit `s > 0` from the committed slip
+    /// `g_s`: `(τ, ∂τ/∂Δu_t, new g_s)` (stick: `k_s`; slip: 0).
+    #[inline]
+    fn tresca(&self, du_t: f64, slip: f64, s: f64) -> (f64, f64, f64) {
+        let tau_trial = self.k_s * (du_t - slip);
+        if tau_trial.abs() <= s {
+            (tau_trial, self.k_s, slip)
+        } else {
+            let sign = tau_trial.signum();
+            (
+                sign * s,
+                0.0,
+                slip + sign * (tau_trial.abs() - s) / self.k_s,
+            )
+        }
+    }
 }
 
 impl PaperJoint {
@@ -268,6 +293,20 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
         let nr = self.normal.normal(jump.y, committed.lambda_n);
         let k_n = nr.stiffness;
         if nr.stage == NormalStage::Separation {
+            // Frozen limit with a stored pressure: the friction part of the
+            // limit stays on while the faces open (see the type's doc), so
+            // the shear traction does not jump at opening.
+            let s_open = self.tan_phi * committed.friction_pressure.max(0.0);
+            if self.bound == FrictionBound::Frozen && s_open > 0.0 {
+                let (tau, k_t, slip) = self.tresca(jump.x, committed.slip, s_open);
+                return LawResponse {
+                    traction: Vector2::new(tau, nr.sigma),
+                    tangent: Matrix2::new(k_t, 0.0, 0.0, k_n),
+                    state: JointState { slip, ..*committed },
+                    status: ContactStatus::Open,
+                    slip,
+                };
+            }
             // Open: no traction; the faces slide freely.
             let state = JointState {
                 slip: jump.x,

@@ -704,3 +704,58 @@ fn secant_slip_changes_only_the_tangent_of_a_slipping_frozen_point() {
     assert_eq!(stick.status, ContactStatus::Stick);
     assert_eq!(stick.tangent[(0, 0)], frozen.k_s());
 }
+
+/// Frozen limit, stored pressure p_f > 0: the friction part p_f tan φ of
+/// the limit stays on while the faces open (not the cohesion), so the shear
+/// traction is continuous across the opening; the open point's tangent
+/// matches finite differences in stick and in slip; with p_f = 0 an open
+/// point carries nothing, as before.
+#[test]
+fn frozen_limit_keeps_its_friction_part_while_opening() {
+    let (c, phi) = (0.1e6, 30.0_f64);
+    let frozen = friction_law(c, phi).with_friction_bound(FrictionBound::Frozen);
+    let tan = phi.to_radians().tan();
+    let p_f = 2.0e6;
+    let st = JointState {
+        friction_pressure: p_f,
+        slip: 1e-6,
+        ..Default::default()
+    };
+    // sheared past the friction limit: slip on both sides of the opening
+    let du_t = 1e-6 + 5.0 * p_f * tan / frozen.k_s();
+    let closed = frozen.evaluate(&Vector2::new(du_t, -1e-15), &st);
+    let open = frozen.evaluate(&Vector2::new(du_t, 1e-15), &st);
+    assert_eq!(closed.status, ContactStatus::Slip);
+    assert_eq!(open.status, ContactStatus::Open);
+    assert_relative_eq!(closed.traction.x, c + p_f * tan, max_relative = 1e-14);
+    assert_relative_eq!(open.traction.x, p_f * tan, max_relative = 1e-14);
+    // only the cohesion jumps (zero in the judged cases)
+    assert_relative_eq!(closed.traction.x - open.traction.x, c, max_relative = 1e-9);
+    // open, slipping: τ = p_f tan φ, slip returned to the limit, exact tangent
+    let j_slip = Vector2::new(du_t, 1e-6);
+    let r = frozen.evaluate(&j_slip, &st);
+    assert_eq!((r.status, r.traction.y), (ContactStatus::Open, 0.0));
+    assert_relative_eq!(
+        r.state.slip,
+        du_t - p_f * tan / frozen.k_s(),
+        max_relative = 1e-12
+    );
+    assert!(fd_error(&frozen, &j_slip, &st, 1e-13, K) < FD_TOL);
+    assert_eq!(r.tangent, Matrix2::zeros());
+    // open, sticking: τ = k_s (Δu_t − g_s), tangent k_s
+    let j_stick = Vector2::new(1e-6 + 0.5 * p_f * tan / frozen.k_s(), 1e-6);
+    let r = frozen.evaluate(&j_stick, &st);
+    assert_eq!(r.status, ContactStatus::Open);
+    assert_relative_eq!(r.traction.x, 0.5 * p_f * tan, max_relative = 1e-9);
+    assert_eq!(r.tangent[(0, 0)], frozen.k_s());
+    assert!(fd_error(&frozen, &j_stick, &st, 1e-13, K) < FD_TOL);
+    // the update stores the open point's pressure, 0: then it carries nothing
+    let a = frozen.update_friction(&j_slip, &st);
+    assert_eq!(a.state.friction_pressure, 0.0);
+    let r = frozen.evaluate(&j_slip, &a.state);
+    assert_eq!(r.traction, Vector2::zeros());
+    assert_eq!(r.state.slip, j_slip.x);
+    // the coupled law is unchanged: open means no traction
+    let coupled = friction_law(c, phi);
+    assert_eq!(coupled.evaluate(&j_slip, &st).traction, Vector2::zeros());
+}
