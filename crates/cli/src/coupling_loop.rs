@@ -39,6 +39,7 @@
 //! unstable states the initial contact state lies.
 
 use indicatif::ProgressBar;
+use tecon_elastic::SolverState;
 use tecon_thermal::{HeatBalance, InterfacePointState, ThermalError, ThermalModel, ThetaScheme};
 
 use crate::driver::{
@@ -303,12 +304,14 @@ struct Attempt {
 impl Loop<'_, '_> {
     /// Thermal steps from `t0` at `time0` (steady when `steps` is empty) with
     /// the conductances of `used`, then the contact solve at the new
-    /// temperatures from the checkpoint `start`.
+    /// temperatures from the checkpoint `start`, its Newton iterations
+    /// started from `guess` when given (see [`SolverState::resume_warm`]).
     fn attempt(
         &mut self,
         b: Block<'_>,
         used: &PointStates,
-        start: &tecon_elastic::SolverState,
+        start: &SolverState,
+        guess: Option<&SolverState>,
     ) -> Result<Attempt, DriverError> {
         let clock = std::time::Instant::now();
         conductances(self.setup, &mut self.model, used)?;
@@ -345,11 +348,13 @@ impl Loop<'_, '_> {
             heat_balance: Some(balance.relative_residual()),
         };
         let clock = std::time::Instant::now();
-        // every attempt starts the contact from the start of the block
-        self.contact
-            .solver
-            .resume(start)
-            .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
+        // every attempt starts the contact from the start of the block (the
+        // friction history), its iterations from the guess
+        match guess {
+            Some(g) => self.contact.solver.resume_warm(start, g),
+            None => self.contact.solver.resume(start),
+        }
+        .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
         let stage = &self.setup.stages[0];
         let state = self.contact.solve(0, stage, Some(&thermal), self.pb)?;
         self.contact_seconds += clock.elapsed().as_secs_f64();
@@ -365,6 +370,9 @@ impl Loop<'_, '_> {
 
     /// A block iterated until the conductances settle: `used` ← the states
     /// `target` makes of the attempt's end states.
+    /// The contact solves start from `checkpoint`, the first one's
+    /// iterations from `guess`, the later ones' from the solve before.
+    #[allow(clippy::too_many_arguments)]
     fn iterate(
         &mut self,
         b: Block<'_>,
@@ -372,14 +380,16 @@ impl Loop<'_, '_> {
         start_states: &PointStates,
         midpoint: bool,
         c: TwoWay,
+        checkpoint: &SolverState,
+        mut guess: Option<SolverState>,
     ) -> Result<(Attempt, usize, f64), DriverError> {
-        let checkpoint = self.contact.solver.state();
         let mut used = first_used;
         let mut h_used = conductances(self.setup, &mut self.model, &used)?;
         let mut iterations = 0;
         loop {
             iterations += 1;
-            let a = self.attempt(b, &used, &checkpoint)?;
+            let a = self.attempt(b, &used, checkpoint, guess.as_ref())?;
+            guess = Some(self.contact.solver.state());
             let next = if midpoint {
                 blend(start_states, &a.states, 0.5)
             } else {
@@ -450,7 +460,9 @@ pub(crate) fn two_way<'s>(
                 time0: 0.0,
                 steps: &[],
             };
-            let (a, iterations, change) = lp.iterate(block, s0.clone(), &s0, false, c)?;
+            let checkpoint = lp.contact.solver.state();
+            let (a, iterations, change) =
+                lp.iterate(block, s0.clone(), &s0, false, c, &checkpoint, None)?;
             lp.finish_block(iterations, change);
             max_res = a.balance.relative_residual();
             let mut state = a.state;
@@ -476,6 +488,9 @@ pub(crate) fn two_way<'s>(
             // interface states now and at the previous contact solve (time)
             let mut s_now = interface_states(setup, &lp.contact, &t);
             let mut previous: Option<(f64, PointStates)> = None;
+            // the contact state at the previous block start (time): the
+            // contact solves start from the state extrapolated from it
+            let mut older: Option<(f64, SolverState)> = None;
             // fixed: `n` steps per block; adaptive: blocks of about
             // `target` seconds (at least one step, at most MAX_BLOCK)
             let n = c.sync_interval.max(1);
@@ -512,8 +527,17 @@ pub(crate) fn two_way<'s>(
                     time0: time,
                     steps,
                 };
+                let checkpoint = lp.contact.solver.state();
+                let guess = match &older {
+                    Some((to, so)) if time > *to && span > 0.0 => {
+                        Some(checkpoint.extrapolated(so, span / (time - to)))
+                    }
+                    _ => None,
+                };
                 let (a, iterations, change) = match c.sync_tolerance {
-                    None => lp.iterate(block, s_now.clone(), &s_now, false, c)?,
+                    None => {
+                        lp.iterate(block, s_now.clone(), &s_now, false, c, &checkpoint, guess)?
+                    }
                     Some(tau) => {
                         // midpoint state extrapolated from the last two solves
                         let used = match &previous {
@@ -523,8 +547,7 @@ pub(crate) fn two_way<'s>(
                             _ => s_now.clone(),
                         };
                         let h_used = conductances(setup, &mut lp.model, &used)?;
-                        let checkpoint = lp.contact.solver.state();
-                        let a = lp.attempt(block, &used, &checkpoint)?;
+                        let a = lp.attempt(block, &used, &checkpoint, guess.as_ref())?;
                         let mid = blend(&s_now, &a.states, 0.5);
                         let h_mid = conductances(setup, &mut lp.model, &mid)?;
                         let e = max_rel_change(&h_mid, &h_used);
@@ -545,12 +568,15 @@ pub(crate) fn two_way<'s>(
                             2.0
                         };
                         if e > tau {
-                            // a one-step block: iterate the midpoint state
+                            // a one-step block: iterate the midpoint state,
+                            // the solves started from this one's answer
+                            let solved = lp.contact.solver.state();
                             lp.contact
                                 .solver
                                 .resume(&checkpoint)
                                 .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
-                            let (a, it, change) = lp.iterate(block, mid, &s_now, true, c)?;
+                            let (a, it, change) =
+                                lp.iterate(block, mid, &s_now, true, c, &checkpoint, Some(solved))?;
                             target = Some(span * grow.max(0.2));
                             (a, it + 1, change.max(0.0))
                         } else {
@@ -571,6 +597,7 @@ pub(crate) fn two_way<'s>(
                 steps_taken += steps.iter().filter(|s| s.dt > 0.0).count();
                 if span > 0.0 {
                     previous = Some((time, std::mem::take(&mut s_now)));
+                    older = Some((time, checkpoint));
                 }
                 time += span;
                 s_now = a.states;

@@ -77,6 +77,46 @@ impl SolverState {
         }
         self.interfaces.push((name.to_string(), seed));
     }
+
+    /// A starting guess extrapolated from `older` through `self`:
+    /// `self + w (self − older)` for the displacements, the normal
+    /// multipliers λ_n and the frozen friction limits, of the interfaces
+    /// both states hold with the same shape (others: `self`'s). A value
+    /// whose extrapolation leaves the sign of `self`'s value (or moves a
+    /// zero) keeps `self`'s value: a point that opened keeps λ_n = 0, and a
+    /// friction limit stays ≥ 0. Slips and loads are `self`'s. Only a guess
+    /// for [`StaticSolver::resume_warm`]; `w = 0` returns `self`.
+    pub fn extrapolated(&self, older: &SolverState, w: f64) -> SolverState {
+        let mut out = self.clone();
+        if older.displacement.len() == self.displacement.len() {
+            for (x, o) in out.displacement.iter_mut().zip(&older.displacement) {
+                *x += w * (*x - o);
+            }
+        }
+        let keep_sign = |now: f64, old: f64| {
+            let v = now + w * (now - old);
+            if now != 0.0 && v.signum() == now.signum() {
+                v
+            } else {
+                now
+            }
+        };
+        for (name, st) in &mut out.interfaces {
+            let Some((_, old)) = older.interfaces.iter().find(|(n, _)| n == name) else {
+                continue;
+            };
+            if old.n_elements() != st.n_elements() || old.per_element() != st.per_element() {
+                continue;
+            }
+            for e in 0..st.n_elements() {
+                for (p, q) in st.element_mut(e).iter_mut().zip(old.element(e)) {
+                    p.lambda_n = keep_sign(p.lambda_n, q.lambda_n);
+                    p.friction_pressure = keep_sign(p.friction_pressure, q.friction_pressure);
+                }
+            }
+        }
+        out
+    }
 }
 
 impl StaticSolver<'_> {
@@ -159,6 +199,66 @@ impl StaticSolver<'_> {
         self.loads = state.loads.clone();
         self.points.clear();
         self.update_gauge();
+        Ok(())
+    }
+
+    /// [`StaticSolver::resume`] from `state`, with a warm start for the next
+    /// [`StaticSolver::advance`]: its Newton iterations start from
+    /// `guess`'s displacements, and its outer passes from `guess`'s normal
+    /// multipliers λ_n and frozen friction limits (of the interfaces whose
+    /// shape matches). The history (slips, loads) is `state`'s, so the
+    /// friction path is the same as after a plain resume; each Newton pass
+    /// minimises a convex energy whose minimiser does not depend on where
+    /// the iterations start, and the outer passes converge to the same
+    /// fixed point, so the answer changes only within the solver's
+    /// tolerances. Until the next `advance` the committed displacements,
+    /// displacement output and interface results are `state`'s. Errors: as
+    /// `resume`, or a guess with another number of unknowns.
+    pub fn resume_warm(
+        &mut self,
+        state: &SolverState,
+        guess: &SolverState,
+    ) -> Result<(), ElasticError> {
+        let n = self.model.n_dofs();
+        if guess.displacement.len() != n {
+            return Err(ElasticError::Input {
+                what: "warm-start guess".into(),
+                message: format!(
+                    "{} displacement values for {n} unknowns (another mesh?)",
+                    guess.displacement.len()
+                ),
+            });
+        }
+        if let Some(i) = guess.displacement.iter().position(|v| !v.is_finite()) {
+            return Err(ElasticError::Input {
+                what: "warm-start guess".into(),
+                message: format!("displacement value {i} is not finite"),
+            });
+        }
+        self.resume(state)?;
+        // the committed point output stays the resumed state's
+        self.points = self.point_results(&self.u, &self.states);
+        for (k, itf) in self.model.interfaces.iter().enumerate() {
+            let Some((_, g)) = guess.interfaces.iter().find(|(name, _)| *name == itf.name) else {
+                continue;
+            };
+            let st = &mut self.states[k];
+            if g.n_elements() != st.n_elements() || g.per_element() != st.per_element() {
+                continue;
+            }
+            for e in 0..st.n_elements() {
+                for (p, q) in st.element_mut(e).iter_mut().zip(g.element(e)) {
+                    p.lambda_n = q.lambda_n;
+                    p.friction_pressure = q.friction_pressure;
+                }
+            }
+        }
+        // the Newton start is the guess; inactive (held) nodes stay at zero
+        self.u.clone_from(&guess.displacement);
+        for node in self.model.inactive_nodes() {
+            self.u[2 * node] = 0.0;
+            self.u[2 * node + 1] = 0.0;
+        }
         Ok(())
     }
 }
