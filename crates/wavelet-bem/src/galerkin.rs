@@ -29,9 +29,10 @@ use crate::kernels;
 use crate::linalg::{projected_pcg, shifted_saddle_solve, threshold};
 use crate::solve::{CompressionReport, LinearSolver, Options, RawSolution};
 use rayon::prelude::*;
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// The assembled Daubechies Galerkin system in the scaling basis: K boundary
 /// curves with n = 2^J scaling functions each (order N = K n), curve after curve.
@@ -70,30 +71,62 @@ pub fn projection_kernel(w: &Daubechies, n: usize) -> Vec<f64> {
     buf.iter().map(|v| v.re / nf).collect()
 }
 
-/// Cyclic convolution of every length-n block of every row of a row-major
-/// N×N matrix with `p̂` (FFT of the kernel), transposed on output.
-fn convolve_rows_transpose(m: &[f64], big: usize, n: usize, phat: &[Complex64]) -> Vec<f64> {
-    let fwd = FftPlanner::<f64>::new().plan_fft_forward(n);
-    let inv = FftPlanner::<f64>::new().plan_fft_inverse(n);
-    let mut rows = vec![0.0; big * big];
-    rows.par_chunks_mut(big).enumerate().for_each(|(a, out)| {
-        let mut buf = vec![Complex64::new(0.0, 0.0); n];
-        for (blk, o) in out.chunks_mut(n).enumerate() {
-            let src = &m[a * big + blk * n..a * big + (blk + 1) * n];
-            for (b, &v) in buf.iter_mut().zip(src) {
-                *b = Complex64::new(v, 0.0);
-            }
-            fwd.process(&mut buf);
-            for (b, ph) in buf.iter_mut().zip(phat) {
-                *b *= ph;
-            }
-            inv.process(&mut buf);
-            for (oo, v) in o.iter_mut().zip(&buf) {
-                *oo = v.re / n as f64;
-            }
+/// Cyclic convolution with the real kernel p of every length-n block of two
+/// real rows at once: they are packed as the real and imaginary parts of one
+/// complex FFT (p real, so the convolution keeps them apart). `phat_n` is
+/// the FFT of p divided by n (the inverse FFT's scaling).
+fn convolve_pair(
+    r0: &mut [f64],
+    r1: &mut [f64],
+    phat_n: &[Complex64],
+    fft: &(Arc<dyn Fft<f64>>, Arc<dyn Fft<f64>>),
+    buf: &mut [Complex64],
+    scratch: &mut [Complex64],
+) {
+    let n = phat_n.len();
+    for (b0, b1) in r0.chunks_mut(n).zip(r1.chunks_mut(n)) {
+        for ((z, &x), &y) in buf.iter_mut().zip(b0.iter()).zip(b1.iter()) {
+            *z = Complex64::new(x, y);
         }
-    });
-    kernels::transpose(&rows, big)
+        fft.0.process_with_scratch(buf, scratch);
+        for (z, ph) in buf.iter_mut().zip(phat_n) {
+            *z *= ph;
+        }
+        fft.1.process_with_scratch(buf, scratch);
+        for ((z, x), y) in buf.iter().zip(b0.iter_mut()).zip(b1.iter_mut()) {
+            *x = z.re;
+            *y = z.im;
+        }
+    }
+}
+
+/// Applies [`convolve_pair`] to every pair of rows (2r, 2r + 1) of the
+/// row-major N × N matrix `m` (N even), after `fill(i, row)` has written
+/// row i (a no-op when the rows hold their input already). Pairs are fixed,
+/// so the result does not depend on the number of threads.
+fn convolve_rows(
+    m: &mut [f64],
+    big: usize,
+    phat_n: &[Complex64],
+    fill: impl Fn(usize, &mut [f64]) + Sync,
+) {
+    let n = phat_n.len();
+    let mut planner = FftPlanner::<f64>::new();
+    let fft = (planner.plan_fft_forward(n), planner.plan_fft_inverse(n));
+    let len = fft
+        .0
+        .get_inplace_scratch_len()
+        .max(fft.1.get_inplace_scratch_len());
+    let zero = Complex64::new(0.0, 0.0);
+    m.par_chunks_mut(2 * big).enumerate().for_each_init(
+        || (vec![zero; n], vec![zero; len]),
+        |(buf, scratch), (k, pair)| {
+            let (r0, r1) = pair.split_at_mut(big);
+            fill(2 * k, r0);
+            fill(2 * k + 1, r1);
+            convolve_pair(r0, r1, phat_n, &fft, buf, scratch);
+        },
+    );
 }
 
 /// Block-wise [`convolve`] of a vector of K blocks of length n.
@@ -135,28 +168,33 @@ pub fn assemble(
         .flat_map(|(c, p)| p.nodes(c, n))
         .collect();
     let big = nodes.len();
-    let l = kernels::log_remainder_blocks(&nodes, n);
     let f = kernels::rhs_blocks(&nodes, n, x0);
     let g2 = kernels::radius_sq(&nodes, x0);
     let p = projection_kernel(&w, n);
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut phat);
-    // peak memory 3 N² doubles: the input, the convolved rows and their transpose
-    let t = convolve_rows_transpose(&l, big, n, &phat);
-    drop(l);
-    let al = convolve_rows_transpose(&t, big, n, &phat);
+    let phat_n: Vec<Complex64> = phat.iter().map(|z| z / n as f64).collect();
+    // L Pᵀ row by row as the kernel rows are computed (L is never stored),
+    // transposed to P L (L is symmetric), then P L Pᵀ row by row: peak
+    // memory 2 N² doubles
+    let sines = kernels::log_sines(n);
+    let mut t = vec![0.0; big * big];
+    convolve_rows(&mut t, big, &phat_n, |i, row| {
+        kernels::log_remainder_row(&nodes, n, &sines, i, row)
+    });
+    let mut a = kernels::transpose(&t, big);
     drop(t);
+    convolve_rows(&mut a, big, &phat_n, |_, _| {});
     let c = w.log_circulant(n);
     // A = −(C + P L Pᵀ)/2π (symmetric up to rounding; L is symmetric); C on diagonal blocks
-    let mut a = al;
+    let s = -1.0 / (2.0 * PI);
     a.par_chunks_mut(big).enumerate().for_each(|(i, row)| {
-        for (k, v) in row.iter_mut().enumerate() {
-            let ck = if i / n == k / n {
-                c[(i + n - k % n) % n]
-            } else {
-                0.0
-            };
-            *v = -(ck + *v) / (2.0 * PI);
+        let (bi, ii) = (i / n, i % n);
+        for (k, v) in row[bi * n..(bi + 1) * n].iter_mut().enumerate() {
+            *v += c[(ii + n - k) % n];
+        }
+        for v in row.iter_mut() {
+            *v *= s;
         }
     });
     let load = convolve_blocks(&f, n, &phat);

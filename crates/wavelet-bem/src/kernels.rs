@@ -50,26 +50,38 @@ pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
 pub fn log_remainder_blocks(nodes: &[BPoint], n: usize) -> Vec<f64> {
     let big = nodes.len();
     let mut out = vec![0.0; big * big];
-    let sines: Vec<f64> = (0..n)
-        .map(|k| (2.0 * (PI * k as f64 / n as f64).sin()).abs().ln())
-        .collect();
-    out.par_chunks_mut(big).enumerate().for_each(|(i, row)| {
-        let xi = &nodes[i];
-        for (j, r) in row.iter_mut().enumerate() {
-            if i == j {
-                *r = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
-            } else {
-                let d = diff(xi, &nodes[j]);
-                let lg = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln();
-                *r = if i / n == j / n {
-                    lg - sines[i.abs_diff(j)]
-                } else {
-                    lg
-                };
-            }
-        }
-    });
+    let sines = log_sines(n);
+    out.par_chunks_mut(big)
+        .enumerate()
+        .for_each(|(i, row)| log_remainder_row(nodes, n, &sines, i, row));
     out
+}
+
+/// ln|2 sin(πk/n)| for k = 0..n (the k = 0 entry is −∞ and never used).
+pub fn log_sines(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| (2.0 * (PI * k as f64 / n as f64).sin()).abs().ln())
+        .collect()
+}
+
+/// Row i of [`log_remainder_blocks`] written into `row` (length N), with
+/// `sines` from [`log_sines`].
+pub fn log_remainder_row(nodes: &[BPoint], n: usize, sines: &[f64], i: usize, row: &mut [f64]) {
+    let xi = &nodes[i];
+    let bi = i / n;
+    for (j, r) in row.iter_mut().enumerate() {
+        if i == j {
+            *r = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+        } else {
+            let d = diff(xi, &nodes[j]);
+            let lg = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln();
+            *r = if bi == j / n {
+                lg - sines[i.abs_diff(j)]
+            } else {
+                lg
+            };
+        }
+    }
 }
 
 /// Right-hand side f(t_a) = ((½I + K) g)(x_a) in subtracted form, trapezoidal rule.

@@ -16,19 +16,23 @@ use crate::linalg::dense_lu_solve;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
-/// Kress weights R_k, k = 0..n−1.
+/// Kress weights R_k, k = 0..n−1, by one FFT of the coefficients 1/m
+/// (symmetric in m ↦ n − m, so the transform is 2 Σ cos(2πmk/n)/m).
 pub fn kress_weights(n: usize) -> Vec<f64> {
+    use rustfft::FftPlanner;
+    use rustfft::num_complex::Complex64;
     let nf = n as f64;
-    (0..n)
-        .into_par_iter()
-        .map(|k| {
-            let mut s = 0.0;
-            for m in 1..n / 2 {
-                let ph = ((m * k) % n) as f64 / nf;
-                s += (2.0 * PI * ph).cos() / m as f64;
-            }
+    let mut buf = vec![Complex64::new(0.0, 0.0); n];
+    for m in 1..n / 2 {
+        buf[m] = Complex64::new(1.0 / m as f64, 0.0);
+        buf[n - m] = buf[m];
+    }
+    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    buf.iter()
+        .enumerate()
+        .map(|(k, z)| {
             let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
-            -s / nf - sign / (nf * nf)
+            -0.5 * z.re / nf - sign / (nf * nf)
         })
         .collect()
 }

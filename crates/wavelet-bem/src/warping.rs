@@ -186,66 +186,63 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
     let big = nd.pts.len();
     let r = kress_weights(m);
     let h = 1.0 / m as f64;
-    let sines: Vec<f64> = (0..m)
-        .map(|k| (2.0 * (PI * k as f64 / m as f64).sin()).abs().ln())
-        .collect();
+    let sines = crate::kernels::log_sines(m);
     let c8 = 1.0 / (8.0 * PI);
+    // per node: unit normal, speed, ∂ω/∂n |x′| and ω |x′|
+    let normals: Vec<V2> = nd.pts.iter().map(|p| p.normal()).collect();
+    let speeds: Vec<f64> = nd.pts.iter().map(|p| p.speed()).collect();
+    let qs: Vec<f64> = nd.flux.iter().zip(&speeds).map(|(q, s)| q * s).collect();
+    let ws: Vec<f64> = nd.omega.iter().zip(&speeds).map(|(w, s)| w * s).collect();
     let rows: Vec<f64> = (0..big)
         .into_par_iter()
         .map(|i| {
             let xi = &nd.pts[i];
-            let nx = xi.normal();
+            let nx = normals[i];
+            let (ci, ii) = (i / m, i % m);
             let (mut psi, mut chi) = (0.0, 0.0);
             for j in 0..big {
-                let yj = &nd.pts[j];
-                let ny = yj.normal();
-                let sp = yj.speed();
-                let (qj, wj) = (nd.flux[j] * sp, nd.omega[j] * sp);
-                let same = i / m == j / m;
-                let nn = nx[0] * ny[0] + nx[1] * ny[1];
-                // A (smooth part) and B (coefficient of ln|2 sin π(t − s)|) of the kernels
-                let (a_phi, a_dny, a_dnx, a_dd, b_phi, b_dny, b_dnx, b_dd);
+                let (qj, wj) = (qs[j], ws[j]);
                 if i == j {
-                    let l = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
-                    (a_phi, a_dny, a_dnx) = (0.0, 0.0, 0.0);
-                    a_dd = -(1.0 - 2.0 * l) * c8;
-                    (b_phi, b_dny, b_dnx) = (0.0, 0.0, 0.0);
-                    b_dd = 2.0 * c8;
-                } else {
-                    let d = diff(xi, yj);
-                    let r2 = d[0] * d[0] + d[1] * d[1];
-                    let lnr = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
-                    let dnx = d[0] * nx[0] + d[1] * nx[1];
-                    let dny = d[0] * ny[0] + d[1] * ny[1];
-                    let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
-                    // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|), L = ln r across curves
-                    let l = if same {
-                        lnr - sines[(i % m).abs_diff(j % m)]
-                    } else {
-                        lnr
-                    };
-                    a_phi = r2 * (1.0 - l) * c8;
-                    a_dny = -(1.0 - 2.0 * l) * dny * c8;
-                    a_dnx = (1.0 - 2.0 * l) * dnx * c8;
-                    a_dd = (cross - (1.0 - 2.0 * l) * nn) * c8;
-                    if same {
-                        b_phi = -r2 * c8;
-                        b_dny = 2.0 * dny * c8;
-                        b_dnx = -2.0 * dnx * c8;
-                        b_dd = 2.0 * nn * c8;
-                    } else {
-                        (b_phi, b_dny, b_dnx, b_dd) = (0.0, 0.0, 0.0, 0.0);
-                    }
+                    // the diagonal limit: only the double-normal kernel survives
+                    let l = (speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+                    let a_dd = -(1.0 - 2.0 * l) * c8;
+                    let b_dd = 2.0 * c8;
+                    chi -= h * a_dd * wj + r[0] * b_dd * wj;
+                    continue;
                 }
-                let wr = if same {
-                    r[((i % m) + m - (j % m)) % m]
+                let ny = normals[j];
+                let same = ci == j / m;
+                let nn = nx[0] * ny[0] + nx[1] * ny[1];
+                let d = diff(xi, &nd.pts[j]);
+                let r2 = d[0] * d[0] + d[1] * d[1];
+                let lnr = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
+                let dnx = d[0] * nx[0] + d[1] * nx[1];
+                let dny = d[0] * ny[0] + d[1] * ny[1];
+                let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
+                // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|), L = ln r across curves
+                let l = if same {
+                    lnr - sines[ii.abs_diff(j % m)]
                 } else {
-                    0.0
+                    lnr
                 };
-                psi += h * (a_phi * qj - a_dny * wj) + wr * (b_phi * qj - b_dny * wj);
-                chi += h * (a_dnx * qj - a_dd * wj) + wr * (b_dnx * qj - b_dd * wj);
+                // A (smooth part) and B (coefficient of ln|2 sin π(t − s)|) of the kernels
+                let a_phi = r2 * (1.0 - l) * c8;
+                let a_dny = -(1.0 - 2.0 * l) * dny * c8;
+                let a_dnx = (1.0 - 2.0 * l) * dnx * c8;
+                let a_dd = (cross - (1.0 - 2.0 * l) * nn) * c8;
+                psi += h * (a_phi * qj - a_dny * wj);
+                chi += h * (a_dnx * qj - a_dd * wj);
+                if same {
+                    let wr = r[(ii + m - (j % m)) % m];
+                    let b_phi = -r2 * c8;
+                    let b_dny = 2.0 * dny * c8;
+                    let b_dnx = -2.0 * dnx * c8;
+                    let b_dd = 2.0 * nn * c8;
+                    psi += wr * (b_phi * qj - b_dny * wj);
+                    chi += wr * (b_dnx * qj - b_dd * wj);
+                }
             }
-            (nd.omega[i] * chi - psi * nd.flux[i]) * xi.speed() * h
+            (nd.omega[i] * chi - psi * nd.flux[i]) * speeds[i] * h
         })
         .collect();
     rows.iter().sum()
