@@ -718,14 +718,15 @@ pub struct VesselArgs {
     #[arg(long)]
     pub study: Option<String>,
     /// Multilayer vessel: the core and N layers wrapped and welded one
-    /// after another (staged analysis, see `multilayer`).
+    /// after another (staged analysis; the README section "Multilayer vessels").
     #[arg(long)]
     pub layers: Option<usize>,
     /// Multilayer: thickness of every layer, m.
     #[arg(long, default_value_t = 6.4e-3)]
     pub layer_thickness: f64,
-    /// Multilayer: seam angle of each layer, degrees, 0 or 180 for now
-    /// (comma-separated; default alternating 0, 180, 0, …).
+    /// Multilayer: seam angle of each layer, degrees in [0, 360)
+    /// (comma-separated, one per layer; default staggered evenly, 360°(k − 1)/N).
+    /// Seams all at 0° or 180° give a half section, any other the full ring.
     #[arg(long, value_delimiter = ',')]
     pub seams: Option<Vec<f64>>,
     /// Output folder.
