@@ -712,13 +712,11 @@ pub fn run(args: RunArgs) -> CliResult<()> {
         .map(Path::to_path_buf)
         .unwrap_or_default();
     let out = args.out.clone().unwrap_or_else(|| default_out(&args.case));
-    // one line per error, whatever the solver's message holds
-    let one_line =
-        |e: Box<dyn std::error::Error + Send + Sync>| -> Box<dyn std::error::Error + Send + Sync> {
-            e.to_string().replace('\n', "; ").into()
-        };
-    let res = execute(&case, &base).map_err(one_line)?;
-    write_outputs(&case, &res, &out).map_err(one_line)?;
+    // input errors are one line naming the file; a solver failure keeps its
+    // report's lines (the summary first, then the attempts and the iteration
+    // history), as `tecon vessel` prints it
+    let res = execute(&case, &base)?;
+    write_outputs(&case, &res, &out)?;
     let text = report(&res);
     let txt = out.join(crate::report_html::REPORT_TEXT);
     std::fs::write(&txt, &text).map_err(|e| format!("{}: {e}", txt.display()))?;
