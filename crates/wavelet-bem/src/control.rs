@@ -129,7 +129,10 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     let mut n = min_n(opts).max(64);
     for curve in section.curves() {
         let m = curve.pieces.len();
-        if m > 1 || curve.junctions.iter().any(|j| !j.is_smooth()) {
+        if curve.nearly_smooth_polygon() {
+            // arc length, no grading: about one node per edge
+            n = n.max(m);
+        } else if m > 1 || curve.junctions.iter().any(|j| !j.is_smooth()) {
             n = n.max(32 * m);
         }
     }

@@ -379,6 +379,10 @@ impl Piece {
     }
 }
 
+/// Largest turn (rad) at every vertex of a polygon parametrised without
+/// grading (see [`Section::nearly_smooth_polygon`]): 1°.
+pub const FLAT_TURN: f64 = PI / 180.0;
+
 /// Kind of a junction between consecutive pieces.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Junction {
@@ -765,7 +769,29 @@ impl Section {
     /// Whether junction k must be graded: every junction of a multi-piece
     /// boundary (corners, and curvature jumps), and cusps of single pieces.
     pub fn graded(&self, k: usize) -> bool {
+        if self.nearly_smooth_polygon() {
+            return false;
+        }
         self.pieces.len() > 1 || !self.junctions[k].is_smooth()
+    }
+
+    /// A boundary of straight segments that all turn by less than
+    /// [`FLAT_TURN`] (a fine polygonal approximation of a smooth convex
+    /// curve, such as a 2000-gon): it is parametrised by arc length without
+    /// grading. Its corners are nearly flat (interior angle α = π − turn),
+    /// the stress function is u ~ r^{π/α} there, so the flux varies like
+    /// r^{turn/(π − turn)} ≤ r^{0.006}: grading each corner would cost
+    /// thousands of nodes per corner for nothing the error control can see.
+    pub fn nearly_smooth_polygon(&self) -> bool {
+        self.pieces.len() >= 8
+            && self
+                .pieces
+                .iter()
+                .all(|p| matches!(p, Piece::Segment { .. }))
+            && self
+                .junctions
+                .iter()
+                .all(|j| (PI - j.interior_angle).abs() < FLAT_TURN)
     }
 
     /// True when some corner or cusp makes τ unbounded.

@@ -107,10 +107,19 @@ impl Parametrisation {
         // pieces (each with two graded corner clusters) keep enough nodes
         let mut breaks = vec![0.0];
         let mut acc = 0.0;
+        // ungraded polygons: by arc length alone (the speed is then the same on every panel)
+        let by_length = section.nearly_smooth_polygon();
         for (k, l) in lens.iter().enumerate() {
-            acc += 0.5 * (l / total + 1.0 / m as f64);
+            acc += if by_length {
+                l / total
+            } else {
+                0.5 * (l / total + 1.0 / m as f64)
+            };
             let b = if k + 1 == m {
                 1.0
+            } else if by_length {
+                // no corner cluster to keep off the nodes; rounding would make the speed jump
+                acc
             } else {
                 (acc * scale).round() / scale
             };

@@ -306,3 +306,41 @@ fn solver_options_are_validated() {
         SolveError::BadN { .. }
     ));
 }
+
+/// A 2000-gon (turn 0.18° per vertex) is parametrised by arc length without
+/// grading: equal panels, constant speed, a starting n of one node per edge
+/// (not 32 per graded corner), and its J at n = 1024 and 2048 agree. A
+/// 64-gon (turn 5.6°) keeps its graded corners.
+#[test]
+fn nearly_smooth_polygons_are_parametrised_by_arc_length() {
+    let p = sections::regular_polygon(2000, 1.0).unwrap();
+    assert!(p.nearly_smooth_polygon());
+    assert!((0..2000).all(|k| !p.graded(k)));
+    let par = Parametrisation::new(&p, 8.0);
+    let speeds: Vec<f64> = (0..4000)
+        .map(|j| par.eval(&p, (j as f64 + 0.25) / 4000.0).speed())
+        .collect();
+    let (lo, hi) = speeds
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &s| (a.min(s), b.max(s)));
+    assert!((hi - lo) / hi < 1e-9, "speed varies: {lo} .. {hi}");
+    assert_eq!(control::starting_n(&p, &Options::default()), 2048);
+    let j = |n| {
+        solve(
+            &p,
+            &Options {
+                n,
+                ..Options::default()
+            },
+        )
+        .unwrap()
+        .torsional_rigidity
+    };
+    let (a, b) = (j(1024), j(2048));
+    // below the circle's π/2 by about the area deficit (1.6e-6 relative)
+    assert!((a - b).abs() / b < 1e-10, "J {a} vs {b}");
+    assert!(b < PI / 2.0 && (PI / 2.0 - b) / b < 1e-5);
+    let q = sections::regular_polygon(64, 1.0).unwrap();
+    assert!(!q.nearly_smooth_polygon());
+    assert!(q.graded(0));
+}
