@@ -7,8 +7,10 @@
 //! curves, n unknowns per curve), so memory grows like K² n²: a section with
 //! many holes reaches the limit at a small n. The peak, in doubles:
 //!
-//! * Daubechies Galerkin: 3 N² (the kernel samples, one convolution pass and
-//!   its transpose; the factor overwrites the matrix);
+//! * Daubechies Galerkin: 3 N² (kept as the bound; the assembly now peaks at
+//!   2 N², the convolved kernel rows and their transpose, and the solve at
+//!   2 N², the factor in place and the copy kept for the backward-error check
+//!   and the LU fallback);
 //! * Nyström: 3 N² (kernel samples, the augmented matrix, its LU copy);
 //! * Shannon: 6 N² (its 2n quadrature nodes per curve give a complex
 //!   2N × N transform and a complex N × N kernel, then the real matrix and
