@@ -41,6 +41,88 @@ fn f(v: &Value, k: &str) -> f64 {
         .unwrap_or_else(|| panic!("missing key {k}"))
 }
 
+/// The numbers of the `<DataArray Name="name">` inside `<section>` of a VTU.
+fn vtu_array(text: &str, section: &str, name: &str) -> Vec<f64> {
+    let start = text
+        .find(&format!("<{section}>"))
+        .unwrap_or_else(|| panic!("no {section}"));
+    let s = &text[start..];
+    let at = s
+        .find(&format!("Name=\"{name}\""))
+        .unwrap_or_else(|| panic!("no {name} in {section}"));
+    let s = &s[at..];
+    let body = &s[s.find('>').unwrap() + 1..s.find("</DataArray>").unwrap()];
+    body.split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect()
+}
+
+/// VTU of a P2 state (paper mesh at order 2): quadratic cells, the ZZ
+/// indicator per cell, and points split per region: a node on the weld
+/// edge has one point in the weld and one in the layer, each carrying its
+/// own region's recovered (SPR) stress, never their average.
+#[test]
+fn p2_vtu_keeps_the_weld_edge_regions_apart() {
+    let (_, run) = run(VesselMeshSpec {
+        order: 2,
+        ..VesselMeshSpec::paper()
+    });
+    let mesh = &run.mesh;
+    let last = run.results.last().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p2.vtu");
+    tecon_cli::writers::write_state_vtu(mesh, &path, last).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let n_el = mesh.n_triangles();
+    let types = vtu_array(&text, "Cells", "types");
+    assert_eq!(types.len(), n_el);
+    assert!(types.iter().all(|&t| t == 22.0), "VTK_QUADRATIC_TRIANGLE");
+    let zz = vtu_array(&text, "CellData", "zz_error_indicator");
+    assert_eq!(zz.len(), n_el);
+    assert!(zz.iter().all(|v| v.is_finite() && *v >= 0.0));
+    assert!(zz.iter().any(|v| *v > 0.0));
+    let conn = vtu_array(&text, "Cells", "connectivity");
+    let node = vtu_array(&text, "PointData", "node");
+    let polar = vtu_array(&text, "PointData", "stress_rr_tt_rt_Pa");
+    let hoop = |p: usize| polar[3 * p + 1];
+    let weld = mesh.region_index("weld").unwrap();
+    let layer = mesh.region_index("layer").unwrap();
+    let regions = mesh.element_regions();
+    let t6 = mesh.triangles6().unwrap();
+    // every cell's points are its own nodes and carry its region's σ*
+    let mut point_of = std::collections::BTreeMap::new();
+    for (e, t) in t6.iter().enumerate() {
+        for a in 0..6 {
+            let p = conn[6 * e + a] as usize;
+            assert_eq!(node[p] as usize, t[a]);
+            let x = mesh.nodes()[t[a]];
+            let own = tecon_elastic::polar(last.stress.recovered_of(e)[a], x, [0.0; 2])[1];
+            assert!(
+                (hoop(p) - own).abs() <= 1e-9 * own.abs().max(1.0),
+                "element {e} node {}: VTU {} vs recovered {own}",
+                t[a],
+                hoop(p)
+            );
+            point_of.insert((t[a], regions[e]), p);
+        }
+    }
+    // the weld edge: nodes in both regions have two points, two values
+    let mut edge = 0;
+    let mut largest_jump: f64 = 0.0;
+    for v in 0..mesh.n_nodes() {
+        if let (Some(&pw), Some(&pl)) = (point_of.get(&(v, weld)), point_of.get(&(v, layer))) {
+            edge += 1;
+            assert_ne!(pw, pl);
+            largest_jump = largest_jump.max((hoop(pw) - hoop(pl)).abs());
+        }
+    }
+    assert!(edge >= 5, "weld edge nodes: {edge}");
+    assert!(
+        largest_jump > 1e6,
+        "hoop jump across the weld edge {largest_jump} Pa"
+    );
+}
+
 #[test]
 fn published_case_on_the_paper_mesh() {
     let (v, run) = run(VesselMeshSpec::paper());

@@ -561,9 +561,10 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
 }
 
 /// Arc-length weighted mean contact pressure (open points count as 0) and
-/// point counts of one interface.
-pub fn interface_summary(points: &[InterfacePointResult], index: usize) -> Value {
-    writers::interface_summary(points, index)
+/// point counts of one interface; `weights` parallel to `points` (see
+/// [`writers::interface_summary`]).
+pub fn interface_summary(points: &[InterfacePointResult], weights: &[f64], index: usize) -> Value {
+    writers::interface_summary(points, weights, index)
 }
 
 // ---------------------------------------------------------------------------

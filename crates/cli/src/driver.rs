@@ -229,6 +229,9 @@ pub struct State {
     pub stress: StressField,
     /// Interface points (all interfaces, in model order).
     pub interface: Vec<InterfacePointResult>,
+    /// Integration weight (arc length, m) of each interface point, parallel
+    /// to `interface` ([`interface_point_weights`]).
+    pub interface_weights: Vec<f64>,
     /// Most Newton iterations of any increment, counting all its passes.
     pub max_iterations: usize,
     /// Most augmented-Lagrangian updates in any increment.
@@ -596,19 +599,36 @@ impl<'s> Contact<'s> {
             heat_balance: th.and_then(|s| s.heat_balance),
             displacement: on_mesh_displacement(self.setup, self.solver.displacement()),
             eps_zz: self.solver.eps_zz(),
-            stress: on_mesh_stress(
-                self.setup,
-                self.solver.stresses(),
-                self.setup
-                    .tie
-                    .and_then(|_| self.solver.quadratic_stresses()),
-            ),
+            stress: on_mesh_stress(self.setup, self.solver.stresses()),
             interface: self.solver.interface_results(),
+            interface_weights: interface_point_weights(&self.setup.model),
             max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
             max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
             coupling_iterations: 0,
         })
     }
+}
+
+/// The integration weight (arc length of the bottom face, m) of every
+/// interface point of `model`, in the order of
+/// [`StaticSolver::interface_results`]: interface, element, point. 4-node
+/// elements: two points of weight L/2 (nodal or Gauss); 6-node elements:
+/// the three points of the element's rule (nodal: Simpson's L/6, 2L/3,
+/// L/6 on a uniformly parametrised edge; Gauss: 5L/18, 8L/18, 5L/18).
+pub fn interface_point_weights(model: &tecon_elastic::ElasticModel<'_>) -> Vec<f64> {
+    let mut w = Vec::new();
+    for itf in model.interfaces() {
+        if itf.is_quadratic() {
+            for e in &itf.quadratic {
+                w.extend(e.points().iter().map(|p| p.weight));
+            }
+        } else {
+            for e in &itf.elements {
+                w.extend(e.points().iter().map(|p| p.weight));
+            }
+        }
+    }
+    w
 }
 
 /// The Newton history of the increments of one contact solve, on stderr.
@@ -645,14 +665,11 @@ fn on_mesh_displacement(setup: &Setup<'_>, u: &[f64]) -> Vec<f64> {
 /// Stresses of the elastic model on the setup's mesh. Elements keep their
 /// numbers when interfaces are tied; a node of a tied pair takes the
 /// area-weighted mean of its own body's elements (never averaged across
-/// the interface): on 6-node meshes of their patch-recovered values `q`
+/// the interface): on 6-node meshes of their patch-recovered values
 /// (second order), on linear meshes of the element values; every other
-/// node the solver's value.
-fn on_mesh_stress(
-    setup: &Setup<'_>,
-    s: StressField,
-    q: Option<tecon_elastic::QuadraticStresses>,
-) -> StressField {
+/// node the solver's value. The per-element fields (element, recovered,
+/// error estimate) carry over unchanged.
+fn on_mesh_stress(setup: &Setup<'_>, s: StressField) -> StressField {
     let Some(t) = setup.tie else {
         return s;
     };
@@ -674,15 +691,15 @@ fn on_mesh_stress(
             acc[v][4] += w;
         }
     };
-    match (mesh.triangles6(), q) {
+    match mesh.triangles6() {
         // order 2: a tied node takes the patch-recovered values of its own
         // side (region), not the element means (first order only)
-        (Some(t6), Some(q)) => {
+        Some(t6) if s.nodes_per_element() == 6 => {
             for (e, tri) in t6.iter().enumerate() {
-                for (a, &v) in tri.iter().enumerate() {
+                for (&v, r) in tri.iter().zip(s.recovered_of(e)) {
                     if shared[map[v]] > 1 {
                         let w = areas[e].abs();
-                        for (x, r) in acc[v].iter_mut().zip(q.recovered[e][a]) {
+                        for (x, r) in acc[v].iter_mut().zip(r) {
                             *x += w * r;
                         }
                         acc[v][4] += w;
@@ -690,11 +707,11 @@ fn on_mesh_stress(
                 }
             }
         }
-        (Some(t6), None) => t6
+        Some(t6) => t6
             .iter()
             .enumerate()
             .for_each(|(e, tri)| tri.iter().for_each(|&v| add(e, v))),
-        (None, _) => mesh
+        None => mesh
             .triangles()
             .iter()
             .enumerate()
@@ -705,10 +722,7 @@ fn on_mesh_stress(
             nodal[v] = [a[0] / a[4], a[1] / a[4], a[2] / a[4], a[3] / a[4]];
         }
     }
-    StressField {
-        element: s.element,
-        nodal,
-    }
+    StressField { nodal, ..s }
 }
 
 /// One mechanical solve from the unloaded state with the given load factors
@@ -731,11 +745,7 @@ pub fn solve_mechanical(
         source: Box::new(e),
     })?;
     Ok((
-        on_mesh_stress(
-            setup,
-            s.stresses(),
-            setup.tie.and_then(|_| s.quadratic_stresses()),
-        ),
+        on_mesh_stress(setup, s.stresses()),
         on_mesh_displacement(setup, s.displacement()),
     ))
 }

@@ -447,6 +447,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
                 eps_zz: solver.eps_zz(),
                 stress: solver.stresses(),
                 interface: solver.interface_results(),
+                interface_weights: crate::driver::interface_point_weights(&model),
                 max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
                 max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
                 coupling_iterations: 0,
@@ -498,6 +499,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             eps_zz: solver.eps_zz(),
             stress: solver.stresses(),
             interface: solver.interface_results(),
+            interface_weights: crate::driver::interface_point_weights(&model),
             max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
             max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
             ..last.state.clone()

@@ -271,7 +271,7 @@ fn contact_pressure_mean(run: &VesselRun, r: &TimeResult) -> f64 {
             polar(r.stress.nodal[i], run.mesh.nodes()[i], [0.0, 0.0])[0]
         });
     }
-    writers::interface_summary(&r.interface, 0)["contact_pressure_mean"]
+    writers::interface_summary(&r.interface, &r.interface_weights, 0)["contact_pressure_mean"]
         .as_f64()
         .unwrap_or(0.0)
 }
@@ -842,7 +842,7 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
     }
     let mut table = Vec::new();
     let mut text = String::from(
-        "mesh     triangles  core_inner[MPa] core_outer[MPa] layer_inner[MPa] layer_outer[MPa] p_contact[MPa]   seconds\n",
+        "mesh     triangles  core_inner[MPa] core_outer[MPa] layer_inner[MPa] layer_outer[MPa] p_contact[MPa]   seconds  ZZ eta[%]\n",
     );
     let n_meshes = specs.len();
     let mut h = Vec::new();
@@ -875,22 +875,27 @@ pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
             g("/final/contact_pressure_mean"),
             run.seconds,
             h[h.len() - 1],
+            // relative ZZ estimate of the cooled state, as a fraction
+            run.results
+                .last()
+                .map_or(f64::NAN, |r| r.stress.error.relative()),
         ];
         text += &format!(
-            "{name:<8} {:>9} {:>15.3} {:>15.3} {:>16.3} {:>16.3} {:>14.4} {:>9.2}\n",
+            "{name:<8} {:>9} {:>15.3} {:>15.3} {:>16.3} {:>16.3} {:>14.4} {:>9.2} {:>10.3}\n",
             row[0],
             row[1] / 1e6,
             row[2] / 1e6,
             row[3] / 1e6,
             row[4] / 1e6,
             row[5] / 1e6,
-            row[6]
+            row[6],
+            100.0 * row[8]
         );
         table.push(row);
     }
     csv(
         &out.join("study_mesh.csv"),
-        "triangles,hoop_core_inner_Pa,hoop_core_outer_Pa,hoop_layer_inner_Pa,hoop_layer_outer_Pa,contact_pressure_Pa,seconds,h_m",
+        "triangles,hoop_core_inner_Pa,hoop_core_outer_Pa,hoop_layer_inner_Pa,hoop_layer_outer_Pa,contact_pressure_Pa,seconds,h_m,zz_eta_relative",
         table.clone(),
     )?;
     // log–log: the change between successive meshes against h, with the fitted order

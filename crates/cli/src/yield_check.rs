@@ -253,6 +253,7 @@ mod tests {
         let s = StressField {
             element,
             nodal: vec![[0.0; 4]; mesh.n_nodes()],
+            ..Default::default()
         };
         let rep = check(&mesh, &s, &|_| Some(250e6));
         assert_eq!(rep.regions.len(), 1);

@@ -102,6 +102,28 @@ pub fn mesh_vtu_string(vtu: &MeshVtu<'_>) -> Result<String, String> {
     grid_string(m.nodes(), &cells, vtu.point_data, vtu.cell_data)
 }
 
+/// Writes any cells (VTK type, point indices) over `points` with their data
+/// as a `.vtu` file, e.g. a mesh whose nodes are duplicated per region so
+/// that a point field may jump across a region border.
+pub fn write_cells_vtu(
+    path: impl AsRef<Path>,
+    points: &[[f64; 2]],
+    cells: &[(u8, Vec<usize>)],
+    point_data: &[(&str, Field<'_>)],
+    cell_data: &[(&str, Field<'_>)],
+) -> Result<(), MeshError> {
+    let path = path.as_ref();
+    let text =
+        grid_string(points, cells, point_data, cell_data).map_err(|message| MeshError::Io {
+            path: path.to_path_buf(),
+            message,
+        })?;
+    std::fs::write(path, text).map_err(|e| MeshError::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
 /// Data attached to points or cells.
 #[derive(Debug, Clone, Copy)]
 pub enum Field<'a> {

@@ -8,16 +8,47 @@ use tecon_mesh::Mesh;
 use crate::kernels::{element_stress, triangle6_stresses};
 use crate::material::Material;
 use crate::model::ElasticModel;
-use crate::recovery::{PointStress, spr_recovery, zz_indicator};
+use crate::recovery::{
+    ErrorEstimate, PointStress, compliance, energy_density, nodal_average, spr_recovery,
+    zz_indicator, zz_indicator_linear,
+};
 
-/// Element and nodal stresses (σ_xx, σ_yy, σ_xy, σ_zz).
-#[derive(Debug, Clone, PartialEq)]
+/// Element and nodal stresses (σ_xx, σ_yy, σ_xy, σ_zz), the recovered
+/// stresses of each region and the Zienkiewicz–Zhu error estimate.
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct StressField {
-    /// Per element.
+    /// Per element (on 6-node triangles the area mean over the
+    /// integration points).
     pub element: Vec<[f64; 4]>,
     /// Per node, area-weighted mean of the elements around it (nodes belong
-    /// to one body, so nothing is averaged across an interface).
+    /// to one body, so nothing is averaged across an interface, but a node
+    /// on a region border, such as the weld edge, mixes the regions: use
+    /// [`StressField::recovered`] where regions must stay apart).
     pub nodal: Vec<[f64; 4]>,
+    /// Per element node, in connectivity order (3 per element on linear
+    /// triangles, 6 on 6-node ones, element after element): the recovered
+    /// stress σ* of the element's own region (nodal averaging on linear
+    /// triangles, SPR on 6-node ones), never averaged across a region
+    /// border or an interface.
+    pub recovered: Vec<[f64; 4]>,
+    /// Zienkiewicz–Zhu estimate ‖σ* − σ_h‖ in the energy norm.
+    pub error: ErrorEstimate,
+}
+
+impl StressField {
+    /// Nodes per element of [`StressField::recovered`] (3 or 6; 0 if empty).
+    pub fn nodes_per_element(&self) -> usize {
+        self.recovered
+            .len()
+            .checked_div(self.element.len())
+            .unwrap_or(0)
+    }
+
+    /// The recovered stresses of element `e`'s nodes (its own region).
+    pub fn recovered_of(&self, e: usize) -> &[[f64; 4]] {
+        let k = self.nodes_per_element();
+        &self.recovered[k * e..k * (e + 1)]
+    }
 }
 
 /// Stresses (σ_xx, σ_yy, σ_xy, σ_zz) per element and per node for
@@ -58,9 +89,38 @@ pub fn stresses(
     }
     let nodal = acc
         .iter()
-        .map(|a| [a[0] / a[4], a[1] / a[4], a[2] / a[4], a[3] / a[4]])
+        .map(|a| {
+            if a[4] > 0.0 {
+                [a[0] / a[4], a[1] / a[4], a[2] / a[4], a[3] / a[4]]
+            } else {
+                [0.0; 4]
+            }
+        })
         .collect();
-    StressField { element, nodal }
+    let areas = mesh.areas();
+    let recovered = nodal_average(
+        mesh.n_nodes(),
+        mesh.triangles(),
+        mesh.element_regions(),
+        &areas,
+        &element,
+    );
+    let c: Vec<Matrix3<f64>> = materials
+        .iter()
+        .map(|m| compliance(&model.analysis.d(m)))
+        .collect();
+    let indicator = zz_indicator_linear(&areas, &c, &element, &recovered);
+    let norm2: Vec<f64> = element
+        .iter()
+        .enumerate()
+        .map(|(e, s)| energy_density(&c[e], *s, areas[e].abs()))
+        .collect();
+    StressField {
+        error: ErrorEstimate::new(indicator, &norm2),
+        element,
+        nodal,
+        recovered: recovered.into_iter().flatten().collect(),
+    }
 }
 
 /// Polar components (σ_rr, σ_θθ, σ_rθ) of (σ_xx, σ_yy, σ_xy) at point `p` about `centre`.
@@ -99,13 +159,16 @@ pub struct QuadraticStresses {
     /// Zienkiewicz–Zhu indicator `η_e` of each element (energy norm of
     /// `σ* − σ_h`, √(J/m) per unit thickness).
     pub indicator: Vec<f64>,
+    /// `‖σ_h‖²_e = ∫_e σ_hᵀ D⁻¹ σ_h dA` of each element (in-plane).
+    pub energy: Vec<f64>,
 }
 
 impl QuadraticStresses {
-    /// Element means (area-weighted over the integration points) and nodal
+    /// Element means (area-weighted over the integration points), nodal
     /// values (area-weighted mean over the elements at the node of their
     /// recovered values; where regions meet this mixes their values, which
-    /// stay apart in [`QuadraticStresses::recovered`]).
+    /// stay apart in [`StressField::recovered`]), the recovered values per
+    /// element node and the error estimate.
     pub fn field(&self, mesh: &Mesh) -> StressField {
         let element = self
             .points
@@ -135,9 +198,20 @@ impl QuadraticStresses {
         }
         let nodal = acc
             .iter()
-            .map(|a| [a[0] / a[4], a[1] / a[4], a[2] / a[4], a[3] / a[4]])
+            .map(|a| {
+                if a[4] > 0.0 {
+                    [a[0] / a[4], a[1] / a[4], a[2] / a[4], a[3] / a[4]]
+                } else {
+                    [0.0; 4]
+                }
+            })
             .collect();
-        StressField { element, nodal }
+        StressField {
+            element,
+            nodal,
+            recovered: self.recovered.iter().flatten().copied().collect(),
+            error: ErrorEstimate::new(self.indicator.clone(), &self.energy),
+        }
     }
 }
 
@@ -160,6 +234,7 @@ pub fn quadratic_stresses(
             points: Vec::new(),
             recovered: Vec::new(),
             indicator: Vec::new(),
+            energy: Vec::new(),
         };
     };
     let points: Vec<Vec<PointStress>> = t6
@@ -182,20 +257,24 @@ pub fn quadratic_stresses(
         })
         .collect();
     let recovered = spr_recovery(mesh.nodes(), t6, mesh.element_regions(), &points);
-    let compliance: Vec<Matrix3<f64>> = materials
+    let c: Vec<Matrix3<f64>> = materials
         .iter()
-        .map(|m| {
-            model
-                .analysis
-                .d(m)
-                .try_inverse()
-                .unwrap_or_else(Matrix3::zeros)
+        .map(|m| compliance(&model.analysis.d(m)))
+        .collect();
+    let indicator = zz_indicator(geometry, &c, &points, &recovered);
+    let energy = points
+        .iter()
+        .zip(&c)
+        .map(|(pts, c)| {
+            pts.iter()
+                .map(|p| energy_density(c, p.stress, p.weight))
+                .sum()
         })
         .collect();
-    let indicator = zz_indicator(geometry, &compliance, &points, &recovered);
     QuadraticStresses {
         points,
         recovered,
         indicator,
+        energy,
     }
 }
