@@ -200,11 +200,9 @@ fn run(cli: Cli) -> Result<(), BoxErr> {
                     inputs: inputs_of(&c.args),
                     ..Default::default()
                 };
-                in_folder(&out, c.folder.force, Some(report), || {
-                    torsion::run(c.args).map(|_| Vec::new())
-                })
+                in_folder(&out, c.folder.force, Some(report), || torsion::run(c.args))
             }
-            None => torsion::run(c.args),
+            None => torsion::run(c.args).map(|_| ()),
         },
         Command::Run(c) => {
             let out = c

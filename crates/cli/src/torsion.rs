@@ -122,8 +122,10 @@ fn js(v: f64) -> serde_json::Value {
     }
 }
 
-/// Runs `tecon torsion`.
-pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
+/// Runs `tecon torsion`: prints the report (text or JSON), writes the
+/// files and, with `--out`, the text report as `report.txt`; returns the
+/// warnings (also printed on stderr).
+pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
     let section = sections::parse_spec(&args.section)?;
     let method = match args.method {
         MethodArg::Daubechies => Method::Daubechies,
@@ -342,6 +344,151 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
     }
 
     let method_name = method.to_string();
+    // the printed report (also report.txt beside the outputs)
+    let mut text = String::new();
+    macro_rules! say {
+        ($($a:tt)*) => {{
+            text += &format!($($a)*);
+            text.push('\n');
+        }};
+    }
+    {
+        say!("section            {}", section.name);
+        for note in &section.notes {
+            say!("note               {note}");
+        }
+        say!(
+            "method             {method_name}{}  n = {n}  grading p = {grading}",
+            if method == Method::Daubechies {
+                format!(" (db{})", wavelet.order)
+            } else {
+                String::new()
+            }
+        );
+        let pr = section.properties();
+        say!("area               {:.15e}", section.area);
+        say!(
+            "centroid           ({:.12e}, {:.12e})",
+            pr.centroid[0],
+            pr.centroid[1]
+        );
+        say!(
+            "second moments     I_xx = {:.12e}  I_yy = {:.12e}  I_xy = {:.12e} (about the centroid)",
+            pr.ixx,
+            pr.iyy,
+            pr.ixy
+        );
+        say!(
+            "principal axes     I_11 = {:.12e}  I_22 = {:.12e}  at φ = {:.6}° (I_11 axis from x)",
+            pr.i11,
+            pr.i22,
+            pr.phi.to_degrees()
+        );
+        say!(
+            "torsional rigidity J = {:.15e}   (T = G θ J)",
+            sol.torsional_rigidity
+        );
+        match (ms.value, ms.at) {
+            (Some(t), Some(at)) => say!(
+                "max shear stress   τ_max/(Gθ) = {t:.15e} at ({:.10}, {:.10})",
+                at[0],
+                at[1]
+            ),
+            (_, at) => {
+                let at = at.unwrap_or([f64::NAN, f64::NAN]);
+                say!(
+                    "max shear stress   singular (τ → ∞) at the re-entrant corner/cusp ({:.10}, {:.10})",
+                    at[0],
+                    at[1]
+                );
+                say!(
+                    "                   largest regular value {:.6e} at ({:.6}, {:.6})",
+                    ms.regular_max,
+                    ms.regular_at[0],
+                    ms.regular_at[1]
+                );
+            }
+        }
+        say!(
+            "shear centre       ({:.12e}, {:.12e})   (Trefftz; {:+.6e}, {:+.6e} from the centroid)",
+            warp.shear_centre[0],
+            warp.shear_centre[1],
+            warp.shear_centre[0] - pr.centroid[0],
+            warp.shear_centre[1] - pr.centroid[1]
+        );
+        say!(
+            "warping constant   Γ = {:.12e}   (∫ ω_n² dA, ω_n normalised about the shear centre)",
+            warp.warping_constant
+        );
+        for (k, h) in sol.holes.iter().enumerate() {
+            say!(
+                "hole {}             u = C = {:.15e} on its boundary (area {:.6e})",
+                k + 1,
+                h.stress_function,
+                section.holes[k].area
+            );
+        }
+        say!(
+            "multiplier c       {:.3e}   (0 for the exact solution; small c alone does not prove accuracy)",
+            sol.multiplier
+        );
+        let tau_e = ctl
+            .tau_error
+            .map(|e| format!("{e:.1e}"))
+            .unwrap_or_else(|| "- (singular)".into());
+        say!(
+            "estimated error    J {:.1e}, τ_max {tau_e}, shear centre {:.1e}, Γ {:.1e} (relative; tolerance {:.1e}; n = {} vs {})",
+            ctl.j_error,
+            ctl.shear_centre_error,
+            ctl.warping_error,
+            ctl.tol,
+            n,
+            ctl.levels
+                .iter()
+                .rev()
+                .nth(1)
+                .map(|l| l.n.to_string())
+                .unwrap_or_else(|| "-".into())
+        );
+        say!(
+            "converged          {}",
+            if ctl.converged { "yes" } else { "NO" }
+        );
+        if let Some(c) = &sol.compression {
+            say!(
+                "compression        ε = {:.1e}: {:.1} entries/row, operator error {:.2e}, CG {} iterations (residual {:.1e})",
+                c.eps,
+                c.entries_per_row,
+                c.operator_error,
+                c.iterations,
+                c.residual
+            );
+        }
+        for v in &interior {
+            say!(
+                "point ({:.6}, {:.6}): u = {:.12e}  τ_xz = {:.12e}  τ_yz = {:.12e}",
+                v.x[0],
+                v.x[1],
+                v.u,
+                v.tau_xz,
+                v.tau_yz
+            );
+        }
+        if !study.is_empty() {
+            say!("study:      n   J                        J(n) − J(n/2)   observed order");
+            for (m, j, d, o) in &study {
+                say!(
+                    "       {m:>6}   {j:.15e}   {}   {}",
+                    d.map(|v| format!("{v:>12.3e}"))
+                        .unwrap_or_else(|| format!("{:>12}", "-")),
+                    o.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into())
+                );
+            }
+        }
+        for p in &written {
+            say!("wrote              {}", p.display());
+        }
+    }
     match args.format {
         FormatArg::Json => {
             let v = json!({
@@ -393,131 +540,11 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
             });
             println!("{}", serde_json::to_string_pretty(&v)?);
         }
-        FormatArg::Text => {
-            println!("section            {}", section.name);
-            for note in &section.notes {
-                println!("note               {note}");
-            }
-            println!(
-                "method             {method_name}{}  n = {n}  grading p = {grading}",
-                if method == Method::Daubechies {
-                    format!(" (db{})", wavelet.order)
-                } else {
-                    String::new()
-                }
-            );
-            let pr = section.properties();
-            println!("area               {:.15e}", section.area);
-            println!(
-                "centroid           ({:.12e}, {:.12e})",
-                pr.centroid[0], pr.centroid[1]
-            );
-            println!(
-                "second moments     I_xx = {:.12e}  I_yy = {:.12e}  I_xy = {:.12e} (about the centroid)",
-                pr.ixx, pr.iyy, pr.ixy
-            );
-            println!(
-                "principal axes     I_11 = {:.12e}  I_22 = {:.12e}  at φ = {:.6}° (I_11 axis from x)",
-                pr.i11,
-                pr.i22,
-                pr.phi.to_degrees()
-            );
-            println!(
-                "torsional rigidity J = {:.15e}   (T = G θ J)",
-                sol.torsional_rigidity
-            );
-            match (ms.value, ms.at) {
-                (Some(t), Some(at)) => println!(
-                    "max shear stress   τ_max/(Gθ) = {t:.15e} at ({:.10}, {:.10})",
-                    at[0], at[1]
-                ),
-                (_, at) => {
-                    let at = at.unwrap_or([f64::NAN, f64::NAN]);
-                    println!(
-                        "max shear stress   singular (τ → ∞) at the re-entrant corner/cusp ({:.10}, {:.10})",
-                        at[0], at[1]
-                    );
-                    println!(
-                        "                   largest regular value {:.6e} at ({:.6}, {:.6})",
-                        ms.regular_max, ms.regular_at[0], ms.regular_at[1]
-                    );
-                }
-            }
-            println!(
-                "shear centre       ({:.12e}, {:.12e})   (Trefftz; {:+.6e}, {:+.6e} from the centroid)",
-                warp.shear_centre[0],
-                warp.shear_centre[1],
-                warp.shear_centre[0] - pr.centroid[0],
-                warp.shear_centre[1] - pr.centroid[1]
-            );
-            println!(
-                "warping constant   Γ = {:.12e}   (∫ ω_n² dA, ω_n normalised about the shear centre)",
-                warp.warping_constant
-            );
-            for (k, h) in sol.holes.iter().enumerate() {
-                println!(
-                    "hole {}             u = C = {:.15e} on its boundary (area {:.6e})",
-                    k + 1,
-                    h.stress_function,
-                    section.holes[k].area
-                );
-            }
-            println!(
-                "multiplier c       {:.3e}   (0 for the exact solution; small c alone does not prove accuracy)",
-                sol.multiplier
-            );
-            let tau_e = ctl
-                .tau_error
-                .map(|e| format!("{e:.1e}"))
-                .unwrap_or_else(|| "- (singular)".into());
-            println!(
-                "estimated error    J {:.1e}, τ_max {tau_e}, shear centre {:.1e}, Γ {:.1e} (relative; tolerance {:.1e}; n = {} vs {})",
-                ctl.j_error,
-                ctl.shear_centre_error,
-                ctl.warping_error,
-                ctl.tol,
-                n,
-                ctl.levels
-                    .iter()
-                    .rev()
-                    .nth(1)
-                    .map(|l| l.n.to_string())
-                    .unwrap_or_else(|| "-".into())
-            );
-            println!(
-                "converged          {}",
-                if ctl.converged { "yes" } else { "NO" }
-            );
-            if let Some(c) = &sol.compression {
-                println!(
-                    "compression        ε = {:.1e}: {:.1} entries/row, operator error {:.2e}, CG {} iterations (residual {:.1e})",
-                    c.eps, c.entries_per_row, c.operator_error, c.iterations, c.residual
-                );
-            }
-            for v in &interior {
-                println!(
-                    "point ({:.6}, {:.6}): u = {:.12e}  τ_xz = {:.12e}  τ_yz = {:.12e}",
-                    v.x[0], v.x[1], v.u, v.tau_xz, v.tau_yz
-                );
-            }
-            if !study.is_empty() {
-                println!("study:      n   J                        J(n) − J(n/2)   observed order");
-                for (m, j, d, o) in &study {
-                    println!(
-                        "       {m:>6}   {j:.15e}   {}   {}",
-                        d.map(|v| format!("{v:>12.3e}"))
-                            .unwrap_or_else(|| format!("{:>12}", "-")),
-                        o.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into())
-                    );
-                }
-            }
-            for p in &written {
-                println!("wrote              {}", p.display());
-            }
-        }
+        FormatArg::Text => print!("{text}"),
     }
     for w in &ctl.warnings {
         eprintln!("warning: {w}");
+        text += &format!("warning: {w}\n");
     }
     if !ctl.converged && !args.allow_unconverged {
         return Err(format!(
@@ -527,5 +554,9 @@ pub fn run(args: TorsionArgs) -> Result<(), BoxErr> {
         )
         .into());
     }
-    Ok(())
+    if let Some(dir) = &args.out {
+        let path = dir.join(crate::report_html::REPORT_TEXT);
+        std::fs::write(&path, &text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(ctl.warnings.clone())
 }

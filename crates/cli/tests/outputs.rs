@@ -345,7 +345,7 @@ fn report_html_lists_the_resolved_inputs() {
 
 /// Other commands' input tables list the options given a value, shown as a
 /// user writes them: no unset options ("None"), no Rust syntax ("Some(",
-/// quotes).
+/// quotes); the torsion report's numbers are on the page (report.txt).
 #[test]
 fn torsion_report_lists_its_options_as_written() {
     let d = tempfile::tempdir().unwrap();
@@ -369,4 +369,11 @@ fn torsion_report_lists_its_options_as_written() {
     for bad in ["None", "Some(", "&quot;"] {
         assert!(!table.contains(bad), "{bad} in {table}");
     }
+    // the printed report is the page's report and report.txt
+    let printed = String::from_utf8_lossy(&o.stdout);
+    let txt = std::fs::read_to_string(out.join("report.txt")).unwrap();
+    assert!(txt.contains("torsional rigidity J = "), "{txt}");
+    assert!(printed.starts_with(&txt[..txt.find("wrote").unwrap()]));
+    let report = &html[html.find("id=\"report\"").expect("a report section")..];
+    assert!(report.contains("torsional rigidity J = "));
 }
