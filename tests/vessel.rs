@@ -145,6 +145,9 @@ fn published_case_on_the_paper_mesh() {
     assert!(f(&v, "/thermal/heat_balance_max_rel_error") < 1e-10);
     assert!(f(&v, "/coupling_delta") < 0.02 && f(&v, "/coupling_delta") > 0.01);
     assert!(f(&v, "/final/contact_pressure_mean") > 0.0);
+    // the ZZ estimate of the cooled state: a fraction, not zero
+    let zz = f(&v, "/final/zz_error/relative");
+    assert!(zz > 0.0 && zz < 1.0, "ZZ relative {zz}");
     assert!(
         f(&v, "/final/max_temperature_change") < 1e-3,
         "cooled to ambient"

@@ -370,6 +370,10 @@ pub fn summary(run: &VesselRun) -> Value {
             "hoop_force_balance_relative": if fa > 0.0 { f / fa } else { 0.0 },
             "interface_points": { "open": open, "slip": slip, "total": last.interface.len() },
             "max_temperature_change": temperature(last).iter().map(|t| (t - run.options.data.ambient).abs()).fold(0.0, f64::max),
+            "zz_error": {
+                "eta": last.stress.error.eta,
+                "relative": last.stress.error.relative(),
+            },
         });
     }
     if let Some(c) = &run.coupling {
