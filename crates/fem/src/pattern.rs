@@ -208,6 +208,12 @@ pub struct CsrMatrix {
     values: Vec<f64>,
 }
 
+/// Fewest rows per task of [`CsrMatrix::mul_vec`]: a task per row costs more
+/// in scheduling than the products on systems of a few thousand unknowns
+/// (the contact Newton's line search and residual checks run several per
+/// iteration; 13 % of a two-way vessel run went to rayon's splitting).
+const MUL_VEC_MIN_ROWS: usize = 4096;
+
 impl CsrMatrix {
     /// A zero matrix with the given pattern.
     pub fn zeros(pattern: Arc<SparsityPattern>) -> Self {
@@ -240,16 +246,21 @@ impl CsrMatrix {
         self.pattern.slot(i, j).map_or(0.0, |s| self.values[s])
     }
 
-    /// y = A x.
+    /// y = A x (rows in tasks of at least [`MUL_VEC_MIN_ROWS`]; each row's
+    /// sum is formed in one task, so the result does not depend on the
+    /// thread count).
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         let p = &self.pattern;
-        y.par_iter_mut().enumerate().for_each(|(i, yi)| {
-            let mut s = 0.0;
-            for k in p.indptr[i]..p.indptr[i + 1] {
-                s += self.values[k] * x[p.indices[k]];
-            }
-            *yi = s;
-        });
+        y.par_iter_mut()
+            .with_min_len(MUL_VEC_MIN_ROWS)
+            .enumerate()
+            .for_each(|(i, yi)| {
+                let mut s = 0.0;
+                for k in p.indptr[i]..p.indptr[i + 1] {
+                    s += self.values[k] * x[p.indices[k]];
+                }
+                *yi = s;
+            });
     }
 
     /// Dense copy (for tests and small systems).
