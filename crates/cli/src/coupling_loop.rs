@@ -279,6 +279,9 @@ struct Loop<'a, 's> {
     stats: CouplingStats,
     thermal_seconds: f64,
     contact_seconds: f64,
+    /// The symbolic analysis of the thermal matrices (the pattern is the
+    /// same at every re-assembly): made once, shared by every stepper.
+    thermal_symbolic: Option<tecon_fem::CholeskySolver>,
 }
 
 /// A block of thermal steps from its start.
@@ -327,6 +330,16 @@ impl Loop<'_, '_> {
             let mut stepper = system
                 .stepper(t0.to_vec(), time0)
                 .map_err(DriverError::Transient)?;
+            let analysed = match &mut self.thermal_symbolic {
+                Some(a) => a,
+                None => self.thermal_symbolic.insert(
+                    tecon_fem::CholeskySolver::analyse(std::sync::Arc::clone(
+                        system.assembler().pattern(),
+                    ))
+                    .map_err(|e| DriverError::Transient(e.into()))?,
+                ),
+            };
+            stepper.share_symbolic(analysed);
             for s in steps.iter().filter(|s| s.dt > 0.0) {
                 stepper
                     .step(s.dt, s.theta)
@@ -442,6 +455,7 @@ pub(crate) fn two_way<'s>(
         },
         thermal_seconds: 0.0,
         contact_seconds: 0.0,
+        thermal_symbolic: None,
     };
     let mut states: Vec<State> = Vec::new();
     let mut max_res: f64 = 0.0;

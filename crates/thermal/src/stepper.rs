@@ -79,6 +79,9 @@ pub struct ThetaStepper<'s, 'm> {
     shift: f64,
     stats: StepperStats,
     tick: u64,
+    /// A solver analysed on this system's pattern whose ordering new pool
+    /// slots share (no symbolic analysis of their own).
+    symbolic: Option<CholeskySolver>,
 }
 
 impl<'s, 'm> ThetaStepper<'s, 'm> {
@@ -124,7 +127,18 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             shift,
             stats: StepperStats::default(),
             tick: 0,
+            symbolic: None,
         })
+    }
+
+    /// New factorisations share the symbolic analysis (AMD ordering,
+    /// elimination tree) of `analysed` instead of analysing the pattern
+    /// again: for a sequence of systems of one mesh whose values change (a
+    /// coupling loop re-assembling the interface conductances), the ordering
+    /// is found once. `analysed` must be of this system's pattern (an equal
+    /// one): a factorisation with another pattern fails with an error.
+    pub fn share_symbolic(&mut self, analysed: &CholeskySolver) {
+        self.symbolic = Some(analysed.share_symbolic());
     }
 
     /// Sets how many factorisations are kept (at least 1).
@@ -197,8 +211,13 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
         sys.prepared
             .apply_scaled(&mut self.scratch, &mut self.zero, 0.0);
         let slot = if self.pool.len() < self.pool_size {
-            let solver = CholeskySolver::analyse(Arc::clone(sys.assembler.pattern()))?;
-            self.stats.analyses += 1;
+            let solver = match &self.symbolic {
+                Some(a) => a.share_symbolic(),
+                None => {
+                    self.stats.analyses += 1;
+                    CholeskySolver::analyse(Arc::clone(sys.assembler.pattern()))?
+                }
+            };
             self.pool.push(Factorised {
                 key,
                 solver,

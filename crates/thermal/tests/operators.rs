@@ -74,6 +74,43 @@ fn one_factorisation_per_distinct_step_and_theta() {
     assert_eq!(st.stats().analyses, 1);
 }
 
+/// A stepper sharing the symbolic analysis of a solver made on another
+/// (re-)assembly of the same pattern never analyses and gives bitwise the
+/// temperatures of one that analyses its own; a solver of another pattern
+/// is refused at the factorisation with an error.
+#[test]
+fn a_shared_symbolic_analysis_gives_the_same_steps() {
+    let mesh = square();
+    let m = model(&mesh);
+    let first = m.assemble().unwrap();
+    let analysed =
+        tecon_fem::CholeskySolver::analyse(std::sync::Arc::clone(first.assembler().pattern()))
+            .unwrap();
+    let system = m.assemble().unwrap();
+    let t0 = system.initial_temperature().unwrap().to_vec();
+    let mut own = system.stepper(t0.clone(), 0.0).unwrap();
+    let mut shared = system.stepper(t0.clone(), 0.0).unwrap();
+    shared.share_symbolic(&analysed);
+    for k in 0..8 {
+        let dt = if k % 3 == 0 { 0.5 } else { 0.25 };
+        own.step(dt, 0.5).unwrap();
+        shared.step(dt, 0.5).unwrap();
+    }
+    assert_eq!(own.temperature(), shared.temperature());
+    assert_eq!(shared.stats().analyses, 0);
+    assert_eq!(own.stats().analyses, 2);
+    assert_eq!(shared.stats().factorisations, 2);
+    let other = rectangle(0.0, 0.0, 0.1, 0.1, 5, 5).unwrap();
+    let other = model(&other).assemble().unwrap();
+    let wrong =
+        tecon_fem::CholeskySolver::analyse(std::sync::Arc::clone(other.assembler().pattern()))
+            .unwrap();
+    let mut bad = system.stepper(t0, 0.0).unwrap();
+    bad.share_symbolic(&wrong);
+    let e = bad.step(0.5, 1.0).unwrap_err().to_string();
+    assert!(e.contains("pattern"), "{e}");
+}
+
 #[test]
 fn results_are_bitwise_identical_for_any_thread_count() {
     let mesh = rectangle(0.0, 0.0, 0.1, 0.1, 80, 80).unwrap(); // > one assembly batch
