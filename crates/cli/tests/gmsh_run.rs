@@ -10,12 +10,14 @@
 //! and carries the Lamé contact pressure; a probe outside the mesh and a bad
 //! `yield` are refused naming them; a yield stress is checked.
 //!
-//! The joint is the linear one (springs k_n = k_s = 10 E/h): the fit stays
-//! closed everywhere, so it carries the same pressure as a bonded contact
-//! (observed: 1.016003e6 Pa against Lamé 1.016019e6 Pa, −0.002 %). Not covered: with the
-//! frictional or the sticking law the contact solve of this mesh does not
-//! converge yet (multipliers still changing after 30 outer updates at load
-//! fraction 0.001; sticking: status ping-pong) — a contact-solver issue.
+//! The joint is the Mohr–Coulomb one (μ = 0.3, augmented Lagrangian, as a
+//! user would set it); the sticking, frictionless and linear joints are run
+//! too. The fit stays closed everywhere, so every law carries the Lamé
+//! pressure (observed: mean 1.016003e6 Pa against 1.016019e6 Pa, −0.0016 %;
+//! the point values scatter by ±2.5 % on this unstructured mesh, the shear by
+//! 3.6e4 Pa). The 8° edge is inclined, so its nodes have rotated frames: the
+//! contact multipliers had never settled on this mesh because every Newton
+//! pass wrote the prescribed 0 into the global x component of those nodes.
 //!
 //! ```text
 //!        end (θ = 8°, symmetry)
@@ -39,9 +41,18 @@ const NU: f64 = 0.3;
 const ALPHA: f64 = 12.51e-6;
 const DT: f64 = 50.0;
 
-/// The case file; `extra_material` goes into the inner ring's material,
-/// `probes` into `[output]`.
+/// The case file with the Mohr–Coulomb joint (μ = 0.3); `extra_material`
+/// goes into the inner ring's material, `probes` into `[output]`.
 fn case(extra_material: &str, probes: &str) -> String {
+    case_with(
+        extra_material,
+        probes,
+        "law = \"frictional\"\nfriction = 0.3",
+    )
+}
+
+/// The case file with the joint table `joint`.
+fn case_with(extra_material: &str, probes: &str, joint: &str) -> String {
     format!(
         r#"
 [mesh]
@@ -71,7 +82,7 @@ name = "joint"
 bottom = "inner_face"
 top = "outer_face"
 [interface.joint]
-law = "linear"
+{joint}
 
 [thermal.initial]
 default = 21.0
@@ -145,7 +156,7 @@ fn a_gmsh_mesh_with_a_curved_interface_at_lc_2mm_runs_through_tecon_run() {
         "gmsh sector: p = {p:.6e} Pa, Lamé {exact:.6e} Pa ({:+.3} %)",
         100.0 * (p / exact - 1.0)
     );
-    assert!((p / exact - 1.0).abs() < 1e-3, "p = {p}, Lamé {exact}");
+    assert!((p / exact - 1.0).abs() < 1e-4, "p = {p}, Lamé {exact}");
     // the yield check names the inner ring and the warning reaches the report
     assert!(
         stdout.contains("region inner: peak von Mises") && stdout.contains("EXCEEDED"),
@@ -163,6 +174,55 @@ fn a_gmsh_mesh_with_a_curved_interface_at_lc_2mm_runs_through_tecon_run() {
         serde_json::from_str(&std::fs::read_to_string(d.path().join("out/timing.json")).unwrap())
             .unwrap();
     assert!(t["seconds"].as_f64().is_some() && v.get("seconds").is_none());
+}
+
+/// Every joint law carries the Lamé pressure on the Gmsh sector, with every
+/// point closed.
+#[test]
+fn every_joint_law_converges_on_the_gmsh_sector_with_the_lame_pressure() {
+    let exact = ShrinkFit {
+        a: 0.762,
+        c: 0.7747,
+        b: 0.7811,
+        delta: (1.0 + NU) * ALPHA * DT * 0.7747,
+        e: E,
+        nu: NU,
+        state: Cylinders::PlaneStrain,
+    }
+    .pressure();
+    for joint in [
+        "law = \"sticking\"",
+        "law = \"frictional\"\nfriction = 0.0",
+        "law = \"frictional\"\nfriction = 1.0",
+        "law = \"linear\"",
+    ] {
+        let d = tempfile::tempdir().unwrap();
+        let o = run(d.path(), &case_with("", "[]", joint));
+        assert!(
+            o.status.success(),
+            "{joint}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let v: Value = serde_json::from_str(
+            &std::fs::read_to_string(d.path().join("out/summary.json")).unwrap(),
+        )
+        .unwrap();
+        let j = &v["times"][0]["interfaces"]["joint"];
+        let mean = j["contact_pressure_mean"].as_f64().unwrap();
+        let max = j["contact_pressure_max"].as_f64().unwrap();
+        eprintln!(
+            "{joint}: mean {mean:.6e} ({:+.2e}), max {max:.6e} Pa, open {}",
+            mean / exact - 1.0,
+            j["open"]
+        );
+        assert!(
+            (mean / exact - 1.0).abs() < 1e-4,
+            "{joint}: {mean} vs {exact}"
+        );
+        // node-to-node scatter of the unstructured mesh: ±2.5 % observed
+        assert!(max / exact - 1.0 < 0.05, "{joint}: max {max}");
+        assert_eq!(j["open"].as_u64(), Some(0), "{joint}: {j}");
+    }
 }
 
 #[test]

@@ -17,10 +17,15 @@ impl StaticSolver<'_> {
         mut u: Vec<f64>,
         pass: usize,
     ) -> Result<(Vec<f64>, Vec<IterationRecord>), ElasticError> {
-        // Prescribed values at this load level (global frame; rotated dofs are 0).
+        // Prescribed values at this load level. A rotated node's constrained
+        // dof is its component along the constraint's normal, so the values
+        // are set in the rotated frame: writing 0 into the global x component
+        // of a node on a skew symmetry edge would move it off that edge.
+        self.rotations.rotate_vector(&mut u);
         for (d, v) in self.dirichlet.iter() {
             u[d] = v * loads.displacement;
         }
+        self.rotations.unrotate_vector(&mut u);
         let mut history: Vec<IterationRecord> = Vec::new();
         let mut prev: Option<Vec<(PointStatus, f64)>> = None;
         let mut prev2: Option<Vec<PointStatus>> = None;
