@@ -30,6 +30,7 @@ pub mod driver;
 pub mod duplex;
 pub mod figures;
 pub mod front;
+pub mod interface_table;
 pub mod memory;
 pub mod mesh_cmd;
 pub mod multilayer;

@@ -265,25 +265,10 @@ fn nodal_csv(mesh: &Mesh, r: &State) -> String {
     s
 }
 
+/// `interface_NNN.csv`: one row per interface point, in order along each
+/// interface (see [`crate::interface_table`]).
 fn interface_csv(names: &[String], r: &State) -> String {
-    let mut s = String::from(
-        "interface,element,point,x_m,y_m,jump_t_m,jump_n_m,shear_Pa,contact_pressure_Pa,slip_m,status(0=open,1=stick,2=slip)\n",
-    );
-    for p in &r.interface {
-        s += &format!("{},{},{},", names[p.interface], p.element, p.point);
-        s += &csv_line(&[
-            p.position[0],
-            p.position[1],
-            p.jump[0],
-            p.jump[1],
-            p.traction[0],
-            -p.traction[1],
-            p.slip,
-            status_code(p.status),
-        ]);
-        s.push('\n');
-    }
-    s
+    crate::interface_table::csv(names, &r.interface)
 }
 
 /// The per-state files of `states` into `dir`; returns the names written.
