@@ -19,6 +19,8 @@
 //!                ╰─────┘ θ = 0
 //! ```
 
+mod common;
+
 use std::f64::consts::PI;
 
 use nalgebra::Vector3;
@@ -49,16 +51,6 @@ fn rings(layers: &[(&str, f64, f64)], rows: usize, segments: usize, order: usize
         })
         .collect();
     layered_annulus_of_order(&layers, 0.0, PI / 2.0, segments, order).unwrap()
-}
-
-/// Least-squares slope of log(e) against log(h).
-fn slope(h: &[f64], e: &[f64]) -> f64 {
-    let n = h.len() as f64;
-    let (x, y): (Vec<f64>, Vec<f64>) = h.iter().zip(e).map(|(h, e)| (h.ln(), e.ln())).unzip();
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    sxy / sxx
 }
 
 /// L2 error of u and energy-norm error against a radial field `u_r(r)`
@@ -143,7 +135,7 @@ fn p2_lame_cylinder_through_the_solver_converges_at_orders_3_and_2() {
         assert_eq!(q.points.len(), mesh.n_triangles());
         assert!(q.indicator.iter().all(|v| v.is_finite()));
     }
-    let (k2, ke) = (slope(&hs, &l2s), slope(&hs, &ens));
+    let (k2, ke) = (common::slope(&hs, &l2s), common::slope(&hs, &ens));
     eprintln!("P2 Lamé via StaticSolver: L2 {l2s:?} slope {k2:.3}; energy {ens:?} slope {ke:.3}");
     assert!((k2 - 3.0).abs() < 0.2, "L2 order {k2}");
     assert!((ke - 2.0).abs() < 0.2, "energy order {ke}");
@@ -315,33 +307,7 @@ fn p2_bonded_rings_match_the_single_cylinder() {
 
 /// Two stacked blocks on an order-2 (straight-sided) mesh.
 fn p2_blocks(h: f64) -> Mesh {
-    let a = tecon_mesh::rectangle(0.0, 0.0, 1.0, 1.0, 4, 4).unwrap();
-    let top = tecon_mesh::rectangle(0.0, 1.0, 1.0, h, 4, 2).unwrap();
-    let mut nodes = a.nodes().to_vec();
-    let off = nodes.len();
-    nodes.extend_from_slice(top.nodes());
-    let mut tris = a.triangles().to_vec();
-    tris.extend(top.triangles().iter().map(|t| t.map(|v| v + off)));
-    let regions = (0..tris.len())
-        .map(|e| usize::from(e >= a.n_triangles()))
-        .collect();
-    let mut m = Mesh::new(nodes, tris, regions, vec!["bottom".into(), "top".into()]).unwrap();
-    let shift = |e: &[[usize; 2]]| {
-        e.iter()
-            .map(|&[p, q]| [p + off, q + off])
-            .collect::<Vec<_>>()
-    };
-    m.add_edge_set("base", a.edge_set("bottom").unwrap().to_vec())
-        .unwrap();
-    m.add_edge_set("bottom_face", a.edge_set("top").unwrap().to_vec())
-        .unwrap();
-    m.add_edge_set("top_face", shift(top.edge_set("bottom").unwrap()))
-        .unwrap();
-    m.add_edge_set("lid", shift(top.edge_set("top").unwrap()))
-        .unwrap();
-    m.add_interface("joint", "bottom_face", "top_face", None)
-        .unwrap();
-    m.to_quadratic(&[]).unwrap()
+    common::stacked_blocks(h).to_quadratic(&[]).unwrap()
 }
 
 /// Patch test: a uniform pressure p on the lid of two stacked blocks

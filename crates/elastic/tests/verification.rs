@@ -4,6 +4,8 @@
 //! §150 (cylinder with a logarithmic temperature profile); the two-cylinder
 //! shrink fit (Lamé with an interference); Mohr–Coulomb sliding of a block.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use tecon_contact::{FrictionBound, GhaboussiNormal, LinearJoint, PaperJoint};
@@ -33,16 +35,6 @@ fn quarter_ring(a: f64, b: f64, rows: usize, segments: usize, t0: f64, t1: f64) 
         segments,
     )
     .unwrap()
-}
-
-/// Least-squares slope of log(e) against log(h).
-fn slope(h: &[f64], e: &[f64]) -> f64 {
-    let n = h.len() as f64;
-    let (x, y): (Vec<f64>, Vec<f64>) = h.iter().zip(e).map(|(h, e)| (h.ln(), e.ln())).unzip();
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    sxy / sxx
 }
 
 /// L2 errors of displacement and of (σ_rr, σ_θθ) over the mesh, by the
@@ -120,7 +112,7 @@ fn lame_cylinder_converges_at_orders_two_and_one() {
         eus.push(eu / exact.u_r(a));
         ess.push(es / p);
     }
-    let (ku, ks) = (slope(&hs, &eus), slope(&hs, &ess));
+    let (ku, ks) = (common::slope(&hs, &eus), common::slope(&hs, &ess));
     eprintln!("Lamé: u errors {eus:.3?} slope {ku:.3}; σ errors {ess:.3?} slope {ks:.3}");
     assert!((ku - 2.0).abs() < 0.15, "displacement order {ku}");
     assert!((ks - 1.0).abs() < 0.15, "stress order {ks}");
@@ -492,7 +484,7 @@ fn block_on_mohr_coulomb_joint() {
 }
 
 fn block_on_mohr_coulomb_joint_with(bound: FrictionBound) -> Vec<InterfacePointResult> {
-    let mesh = stacked_blocks(0.1);
+    let mesh = common::stacked_blocks(0.1);
     let (c, phi, p) = (1e5, 30f64.to_radians(), 1e6);
     let k = 1e13;
     let law = PaperJoint::new(GhaboussiNormal::penalty(k).unwrap(), k, c, phi).unwrap();
@@ -589,38 +581,7 @@ fn block_on_mohr_coulomb_joint_with(bound: FrictionBound) -> Vec<InterfacePointR
 }
 
 fn two_blocks() -> Mesh {
-    stacked_blocks(1.0)
-}
-
-/// [0,1]×[0,1] below, [0,1]×[1,1+h] above, 4 cells across.
-fn stacked_blocks(h: f64) -> Mesh {
-    let a = tecon_mesh::rectangle(0.0, 0.0, 1.0, 1.0, 4, 4).unwrap();
-    let top = tecon_mesh::rectangle(0.0, 1.0, 1.0, h, 4, 2).unwrap();
-    let mut nodes = a.nodes().to_vec();
-    let off = nodes.len();
-    nodes.extend_from_slice(top.nodes());
-    let mut tris = a.triangles().to_vec();
-    tris.extend(top.triangles().iter().map(|t| t.map(|v| v + off)));
-    let regions = (0..tris.len())
-        .map(|e| usize::from(e >= a.n_triangles()))
-        .collect();
-    let mut m = Mesh::new(nodes, tris, regions, vec!["bottom".into(), "top".into()]).unwrap();
-    let shift = |e: &[[usize; 2]]| {
-        e.iter()
-            .map(|&[p, q]| [p + off, q + off])
-            .collect::<Vec<_>>()
-    };
-    m.add_edge_set("base", a.edge_set("bottom").unwrap().to_vec())
-        .unwrap();
-    m.add_edge_set("bottom_face", a.edge_set("top").unwrap().to_vec())
-        .unwrap();
-    m.add_edge_set("top_face", shift(top.edge_set("bottom").unwrap()))
-        .unwrap();
-    m.add_edge_set("lid", shift(top.edge_set("top").unwrap()))
-        .unwrap();
-    m.add_interface("joint", "bottom_face", "top_face", None)
-        .unwrap();
-    m
+    common::stacked_blocks(1.0)
 }
 
 /// The top block pulled up by 1 mm: the joint opens, carries no traction,

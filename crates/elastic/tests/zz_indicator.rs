@@ -29,6 +29,8 @@
 //! effectivity 0.968, 0.988, 0.992, 0.991; P2 η slope 1.87 (true error
 //! 1.98), effectivity 0.753, 0.832, 0.898, 0.941.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use nalgebra::{Matrix3, Vector3};
@@ -135,16 +137,6 @@ fn solve(n: usize, order: usize) -> (f64, f64, f64, f64) {
     )
 }
 
-/// Least-squares slope of log(e) against log(h).
-fn slope(h: &[f64], e: &[f64]) -> f64 {
-    let n = h.len() as f64;
-    let (x, y): (Vec<f64>, Vec<f64>) = h.iter().zip(e).map(|(h, e)| (h.ln(), e.ln())).unzip();
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    sxy / sxx
-}
-
 fn study(order: usize, levels: &[usize]) -> (f64, f64, Vec<f64>) {
     let (mut hs, mut etas, mut errs, mut eff) = (vec![], vec![], vec![], vec![]);
     eprintln!("P{order}:  n  elements          η      ‖σ − σ_h‖   η/error  η relative");
@@ -161,7 +153,7 @@ fn study(order: usize, levels: &[usize]) -> (f64, f64, Vec<f64>) {
         errs.push(err);
         eff.push(eta / err);
     }
-    let (k_eta, k_err) = (slope(&hs, &etas), slope(&hs, &errs));
+    let (k_eta, k_err) = (common::slope(&hs, &etas), common::slope(&hs, &errs));
     eprintln!("P{order}: fitted slopes η {k_eta:.3}, true error {k_err:.3}; effectivity {eff:?}");
     (k_eta, k_err, eff)
 }
