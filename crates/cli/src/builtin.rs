@@ -155,11 +155,16 @@ impl Default for VesselOptions {
     }
 }
 
-/// The default mesh: refinement level 2 (2176 triangles; the mean hoop
-/// prestress is within about 3 % of level 3).
+/// The name of the default mesh on the command line (`--mesh`).
+pub const DEFAULT_MESH: &str = "g0";
+
+/// The default mesh: graded level 0 with 6-node triangles (2 784
+/// triangles, order 2), the cheapest mesh that meets the accuracy targets
+/// of the welded vessel (far-field hoop stress, weld plane, gap, temperatures;
+/// docs/vessel.md §9).
 pub fn default_mesh() -> VesselMeshSpec {
-    // level 2 is a valid level
-    VesselMeshSpec::refined(2).unwrap_or_else(|_| VesselMeshSpec::paper())
+    // level 0 is a valid graded level
+    VesselMeshSpec::graded(0).unwrap_or_else(|_| VesselMeshSpec::paper())
 }
 
 /// Cooling schedule: steps growing from 0.02 s near the start to 1000 s.

@@ -313,7 +313,7 @@ pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<Stri
         if s != "mesh" {
             return Err(format!("--study '{s}': the only study is 'mesh'").into());
         }
-        vessel::study(&base, &args.out)?;
+        vessel::study(&base, &args.out, args.mesh.starts_with('g'))?;
         return Ok(Vec::new());
     }
     let out = &args.out;

@@ -397,7 +397,7 @@ pub fn run(
         ("--order", args.order.is_some_and(|o| o != 1)),
         (
             "--mesh (the multilayer mesh has its own density)",
-            args.mesh != "2",
+            args.mesh != crate::builtin::DEFAULT_MESH,
         ),
     ];
     if let Some((name, _)) = unsupported.iter().find(|(_, on)| *on) {

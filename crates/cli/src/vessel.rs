@@ -659,15 +659,17 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
 /// Arguments of `tecon vessel`.
 #[derive(clap::Args, Debug)]
 pub struct VesselArgs {
-    /// Mesh: `paper` (108 nodes, 136 triangles, 17 interface elements), a
-    /// refinement level 0–9 (136·4^level triangles), `xF` (every paper
-    /// interval in F parts, 136·F² triangles) or `tN` (about N triangles,
-    /// e.g. `t1e5`); default 2.
-    #[arg(long, default_value = "2")]
+    /// Mesh: `gL` (graded toward the weld corners, made for 6-node
+    /// triangles: 2 784·4^L triangles, order 2; default g0), `paper` (108
+    /// nodes, 136 triangles, 17 interface elements), a uniform refinement
+    /// level 0–9 (136·4^level triangles), `xF` (every paper interval in F
+    /// parts, 136·F² triangles) or `tN` (about N triangles, e.g. `t1e5`).
+    #[arg(long, default_value = crate::builtin::DEFAULT_MESH)]
     pub mesh: String,
     /// Element order: 1 (3-node triangles) or 2 (6-node triangles, curved
-    /// edges on the circles). Default 1; the `paper` preset is the paper's
-    /// linear triangles unless `--order 2` is given.
+    /// edges on the circles). Default: 2 on the graded meshes `gL`, 1 on
+    /// `paper` (the paper's linear triangles), the uniform levels, `xF` and
+    /// `tN`.
     #[arg(long)]
     pub order: Option<usize>,
     /// The core/layer joint: `frictional` (the paper's: penalty contact
@@ -718,7 +720,8 @@ pub struct VesselArgs {
     /// Output times, s (comma-separated; the last ends the cooling).
     #[arg(long, value_delimiter = ',', default_value = "1,10,60,600,3600,72000")]
     pub times: Vec<f64>,
-    /// `--study mesh`: the case on meshes paper, 1, 2, 3, 4 with a convergence table.
+    /// `--study mesh`: the case on meshes g0, g1, g2 (with `--mesh` a uniform
+    /// level or `paper`: paper, 1, 2, 3, 4) with a convergence table.
     #[arg(long)]
     pub study: Option<String>,
     /// Multilayer vessel: the core and N layers wrapped and welded one
@@ -831,18 +834,27 @@ pub fn run(args: VesselArgs) -> CliResult<()> {
             println!("results in {}", args.out.display());
             Ok(())
         }
-        Some("mesh") => study(&base, &args.out),
+        Some("mesh") => study(&base, &args.out, args.mesh.starts_with('g')),
         Some(other) => Err(format!("--study '{other}': the only study is 'mesh'").into()),
     }
 }
 
-/// The mesh-convergence study.
-pub fn study(base: &VesselOptions, out: &Path) -> CliResult<()> {
+/// The mesh-convergence study: on the graded family g0, g1, g2 when the
+/// mesh asked for is graded (`graded`, the default), else on the uniform
+/// family paper, 1, 2, 3, 4; at the element order of `base`.
+pub fn study(base: &VesselOptions, out: &Path, graded: bool) -> CliResult<()> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    // level 0 is the paper mesh
-    let mut specs = vec![("paper".to_string(), VesselMeshSpec::paper())];
-    for l in 1..=4 {
-        specs.push((l.to_string(), VesselMeshSpec::refined(l)?));
+    let mut specs = Vec::new();
+    if graded {
+        for l in 0..=2 {
+            specs.push((format!("g{l}"), VesselMeshSpec::graded(l)?));
+        }
+    } else {
+        // level 0 is the paper mesh
+        specs.push(("paper".to_string(), VesselMeshSpec::paper()));
+        for l in 1..=4 {
+            specs.push((l.to_string(), VesselMeshSpec::refined(l)?));
+        }
     }
     let mut table = Vec::new();
     let mut text = String::from(

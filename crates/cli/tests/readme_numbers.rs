@@ -77,10 +77,10 @@ fn num(v: &Value, key: &str) -> f64 {
 }
 
 #[test]
-fn the_vessel_table_rows_paper_1_and_2_are_what_tecon_vessel_gives() {
+fn the_vessel_table_rows_paper_1_2_and_g0_are_what_tecon_vessel_gives() {
     let text = readme();
     let d = tempfile::tempdir().unwrap();
-    for mesh in ["paper", "1", "2"] {
+    for mesh in ["paper", "1", "2", "g0"] {
         let row: Vec<&str> = text
             .lines()
             .find(|l| {
