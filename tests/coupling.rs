@@ -398,3 +398,34 @@ fn fe_duplex_has_the_one_dimensional_steady_states_and_two_attractors() {
     let s = model.steady_two_way().unwrap();
     assert!((s.pressure / coarse[0].pressure - 1.0).abs() < 2e-3);
 }
+
+/// A block accepted at the coupling-iteration limit is never silent: the
+/// run's notes (printed as warnings, in summary.json) say how many blocks
+/// did not settle and by how much the conductance still changed.
+#[test]
+fn unsettled_blocks_are_reported_in_the_notes() {
+    use tecon_cli::driver::TwoWay;
+    use tecon_cli::vessel::analyse;
+    let run = analyse(&tecon_cli::vessel::VesselOptions {
+        two_way: Some(TwoWay {
+            max_iterations: 1,
+            ..Default::default()
+        }),
+        ..paper_contact(&[1.0, 10.0])
+    })
+    .unwrap();
+    let c = run.coupling.as_ref().unwrap();
+    assert!(c.unsettled > 0, "{c:?}");
+    let note = run
+        .notes
+        .iter()
+        .find(|n| n.contains("did not settle"))
+        .unwrap_or_else(|| panic!("no note: {:?}", run.notes));
+    assert!(
+        note.contains(&format!(
+            "{} blocks did not settle within the limit of 1 coupling iterations per block",
+            c.unsettled
+        )),
+        "{note}"
+    );
+}

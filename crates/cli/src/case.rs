@@ -523,14 +523,6 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                 .map(|r| r.coupling_iterations)
                 .collect::<Vec<_>>()
         );
-        if c.unsettled > 0
-            && let Some(n) = summary["notes"].as_array_mut()
-        {
-            n.push(json!(format!(
-                "two-way coupling: {} blocks did not settle within the iteration limit",
-                c.unsettled
-            )));
-        }
     } else {
         summary["coupling"] = json!({ "mode": "one-way" });
     }

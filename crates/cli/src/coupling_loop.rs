@@ -649,12 +649,23 @@ pub(crate) fn two_way<'s>(
     run_stages(setup, &mut lp.contact, &[], 1, &mut states, pb)?;
     lp.contact_seconds += clock.elapsed().as_secs_f64();
     pb.finish_and_clear();
+    let mut notes = lp.contact.solver.notes().to_vec();
+    if lp.stats.unsettled > 0 {
+        // never silently wrong: a block accepted at the iteration limit
+        notes.push(format!(
+            "two-way coupling: {} blocks did not settle within the limit of {} coupling iterations per block; the interface conductance still changed by up to {:.0} % between the last two (tolerance {} %), so the temperatures and contact state there carry that error (a joint point that alternates between open and closed does this; a smaller --sync-tolerance or more coupling iterations may settle it)",
+            lp.stats.unsettled,
+            c.max_iterations,
+            100.0 * lp.stats.max_final_change,
+            100.0 * c.tolerance
+        ));
+    }
     Ok(Outcome {
         interfaces: lp.contact.interfaces(),
         states,
         thermal: info,
         newton: lp.contact.stats(),
-        notes: lp.contact.solver.notes().to_vec(),
+        notes,
         thermal_seconds: lp.thermal_seconds,
         contact_seconds: lp.contact_seconds,
         coupling: Some(lp.stats),
