@@ -61,6 +61,52 @@ pub fn pressure_lines(v: &Value) -> Vec<String> {
     s
 }
 
+/// A line for the yield check when the peak of a region lies at a corner
+/// of the weld (where its edge meets the interface or the outer surface):
+/// the elastic stress is singular there, so that peak grows as the mesh is
+/// refined and is no material value.
+fn weld_corner_note(run: &VesselRun, r: &YieldReport) -> Option<String> {
+    let g = &run.options.geometry;
+    let theta = g.weld_half_angle();
+    let corners =
+        [g.interface_radius(), g.outer_radius()].map(|rad| [rad * theta.cos(), rad * theta.sin()]);
+    // the longest edge of an element
+    let size = |e: usize| {
+        let t = run.mesh.triangles().get(e)?;
+        let x = |k: usize| run.mesh.nodes()[t[k]];
+        (0..3)
+            .map(|k| {
+                let (a, b) = (x(k), x((k + 1) % 3));
+                (a[0] - b[0]).hypot(a[1] - b[1])
+            })
+            .reduce(f64::max)
+    };
+    // within a tenth of the layer thickness, or the size of the peak's
+    // element, of a corner
+    let near = |p: [f64; 2], e: usize| {
+        let d = (0.1 * g.layer_thickness).max(size(e).unwrap_or(0.0));
+        corners.iter().any(|c| (p[0] - c[0]).hypot(p[1] - c[1]) < d)
+    };
+    let at: Vec<&str> = r
+        .regions
+        .iter()
+        .filter(|y| near(y.peak_at, y.peak_element))
+        .map(|y| y.region.as_str())
+        .collect();
+    (!at.is_empty()).then(|| {
+        let (which, verb) = if at.len() > 1 {
+            ("peaks of regions", "lie")
+        } else {
+            ("peak of region", "lies")
+        };
+        format!(
+            "the {which} {} {verb} at a weld corner (θ = {:.2}°), where the elastic stress is singular: the peak grows as the mesh is refined (the real weld yields locally there, which an elastic analysis cannot resolve); the mean prestress and the stress at the weld plane are mesh-converged",
+            at.join(" and "),
+            theta.to_degrees()
+        )
+    })
+}
+
 /// The yield check of the cooled state (and of the operating state with `--pressure`).
 pub fn yield_reports(run: &VesselRun, yield_stress: Option<f64>) -> Vec<(String, YieldReport)> {
     let y = |_: &str| yield_stress;
@@ -350,6 +396,9 @@ pub fn vessel(args: VesselArgs, yield_stress: Option<f64>) -> CliResult<Vec<Stri
     for (when, r) in &checks {
         text += &format!("yield check {when}:\n");
         for l in r.lines(true) {
+            text += &format!("  {l}\n");
+        }
+        if let Some(l) = weld_corner_note(&run, r) {
             text += &format!("  {l}\n");
         }
     }

@@ -278,6 +278,11 @@ fn the_yield_check_names_the_regions_above_yield_and_the_peak() {
         "{text}"
     );
     assert!(text.contains("warning: after cooling"), "{text}");
+    // the weld's peak sits at a weld corner, a stress singularity: said so
+    assert!(
+        text.contains("lie at a weld corner") || text.contains("lies at a weld corner"),
+        "{text}"
+    );
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("class=\"warn\"") && html.contains("above the yield stress"));
     let s: serde_json::Value =
