@@ -69,7 +69,7 @@ impl UpdatedCholesky {
     /// dofs (beyond that the new matrix is factorised).
     pub fn analyse(pattern: Arc<SparsityPattern>, max_rank: usize) -> Result<Self, FemError> {
         Ok(UpdatedCholesky {
-            cholesky: CholeskySolver::analyse(pattern)?,
+            cholesky: CholeskySolver::analyse_for_refactorisation(pattern)?,
             base: None,
             columns: BTreeMap::new(),
             max_rank,
