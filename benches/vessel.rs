@@ -54,7 +54,7 @@ fn vessel(c: &mut Criterion) {
 /// (`--conductance contact --coupling two-way`), paper mesh and level 2
 /// (linear; the default mesh was level 2 when the goal of issue 13, two-way
 /// at most 5× one-way, was set; the default is now g0 at order 2, where one
-/// two-way run takes about 36 s: measured by hand, not here).
+/// two-way run takes about 27 s: measured by hand, not here).
 /// Before measuring, one run of each prints its Newton iterations, solves,
 /// contact solves and times.
 fn vessel_two_way(c: &mut Criterion) {
