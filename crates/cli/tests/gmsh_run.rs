@@ -47,6 +47,21 @@ const NU: f64 = 0.3;
 const ALPHA: f64 = 12.51e-6;
 const DT: f64 = 50.0;
 
+/// The two-cylinder (Lamé) contact pressure of the sector's shrink fit,
+/// plane strain, interference (1 + ν) α ΔT c.
+fn lame_pressure() -> f64 {
+    ShrinkFit {
+        a: 0.762,
+        c: 0.7747,
+        b: 0.7811,
+        delta: (1.0 + NU) * ALPHA * DT * 0.7747,
+        e: E,
+        nu: NU,
+        state: Cylinders::PlaneStrain,
+    }
+    .pressure()
+}
+
 /// The case file with the Mohr–Coulomb joint (μ = 0.3); `extra_material`
 /// goes into the inner ring's material, `probes` into `[output]`.
 fn case(extra_material: &str, probes: &str) -> String {
@@ -148,16 +163,7 @@ fn a_gmsh_mesh_with_a_curved_interface_at_lc_2mm_runs_through_tecon_run() {
         .pointer("/times/0/interfaces/joint/contact_pressure_mean")
         .and_then(Value::as_f64)
         .unwrap();
-    let fit = ShrinkFit {
-        a: 0.762,
-        c: 0.7747,
-        b: 0.7811,
-        delta: (1.0 + NU) * ALPHA * DT * 0.7747,
-        e: E,
-        nu: NU,
-        state: Cylinders::PlaneStrain,
-    };
-    let exact = fit.pressure();
+    let exact = lame_pressure();
     eprintln!(
         "gmsh sector: p = {p:.6e} Pa, Lamé {exact:.6e} Pa ({:+.3} %)",
         100.0 * (p / exact - 1.0)
@@ -186,16 +192,7 @@ fn a_gmsh_mesh_with_a_curved_interface_at_lc_2mm_runs_through_tecon_run() {
 /// point closed.
 #[test]
 fn every_joint_law_converges_on_the_gmsh_sector_with_the_lame_pressure() {
-    let exact = ShrinkFit {
-        a: 0.762,
-        c: 0.7747,
-        b: 0.7811,
-        delta: (1.0 + NU) * ALPHA * DT * 0.7747,
-        e: E,
-        nu: NU,
-        state: Cylinders::PlaneStrain,
-    }
-    .pressure();
+    let exact = lame_pressure();
     for joint in [
         "law = \"sticking\"",
         "law = \"frictional\"\nfriction = 0.0",
@@ -236,16 +233,7 @@ fn every_joint_law_converges_on_the_gmsh_sector_with_the_lame_pressure() {
 /// carries the Lamé pressure (observed: mean −5e-7, points within 3e-5).
 #[test]
 fn the_second_order_gmsh_sector_carries_the_lame_pressure_at_every_point() {
-    let exact = ShrinkFit {
-        a: 0.762,
-        c: 0.7747,
-        b: 0.7811,
-        delta: (1.0 + NU) * ALPHA * DT * 0.7747,
-        e: E,
-        nu: NU,
-        state: Cylinders::PlaneStrain,
-    }
-    .pressure();
+    let exact = lame_pressure();
     let d = tempfile::tempdir().unwrap();
     let text = case("", "[]").replace(
         &msh().display().to_string(),
