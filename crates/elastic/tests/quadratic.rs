@@ -206,7 +206,7 @@ fn lame_errors(mesh: &P2Mesh) -> LameErrors {
     for b in 0..(mesh.gt - 1) / 2 {
         let nodes = [id(0, 2 * b), id(0, 2 * b + 2), id(0, 2 * b + 1)];
         let edge = Edge3::new(nodes.map(|a| mesh.nodes[a])).unwrap();
-        for p in edge.gauss_points(3) {
+        for p in edge.gauss_points(tecon_fem::quadrature::GaussLegendre::Three) {
             for (k, &a) in nodes.iter().enumerate() {
                 load.push((2 * a, -P * p.normal.x * p.shape[k] * p.weight));
                 load.push((2 * a + 1, -P * p.normal.y * p.shape[k] * p.weight));

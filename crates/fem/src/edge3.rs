@@ -16,7 +16,7 @@
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 
-use crate::quadrature::gauss_legendre;
+use crate::quadrature::GaussLegendre;
 
 /// Why a 3-node edge was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -143,16 +143,18 @@ impl Edge3 {
         }
     }
 
-    /// The `n`-point Gauss–Legendre points (`n = 1..=4`).
+    /// The points of the Gauss–Legendre rule `rule`.
     #[inline]
-    pub fn gauss_points(&self, n: usize) -> impl Iterator<Item = Edge3Point> + '_ {
-        gauss_legendre(n).iter().map(|&(s, w)| self.point(s, w))
+    pub fn gauss_points(&self, rule: GaussLegendre) -> impl Iterator<Item = Edge3Point> + '_ {
+        rule.points().iter().map(|&(s, w)| self.point(s, w))
     }
 
     /// Arc length `∫ |x'| ds` (4-point Gauss: exact on a straight edge; on a
     /// circular arc of 30° with the mid node on it, relative error < 1e-9).
     pub fn length(&self) -> f64 {
-        self.gauss_points(4).map(|p| p.weight).sum()
+        self.gauss_points(GaussLegendre::Four)
+            .map(|p| p.weight)
+            .sum()
     }
 
     /// Chord length `|x_b − x_a|`.
@@ -165,7 +167,7 @@ impl Edge3 {
     /// curved edge they sum to the isoparametric arc length.
     pub fn nodal_weights(&self) -> [f64; 3] {
         let mut w = [0.0; 3];
-        for p in self.gauss_points(4) {
+        for p in self.gauss_points(GaussLegendre::Four) {
             for a in 0..3 {
                 w[a] += p.weight * p.shape[a];
             }
@@ -177,7 +179,7 @@ impl Edge3 {
     /// a, b, m: e.g. the convective matrix of a film coefficient `h`.
     pub fn mass_matrix(&self, h: f64) -> Matrix3<f64> {
         let mut m = Matrix3::zeros();
-        for p in self.gauss_points(3) {
+        for p in self.gauss_points(GaussLegendre::Three) {
             let n = Vector3::from(p.shape);
             m += n * n.transpose() * (h * p.weight);
         }
@@ -188,7 +190,7 @@ impl Edge3 {
     /// line density `q`.
     pub fn load_vector(&self, q: f64) -> Vector3<f64> {
         let mut f = Vector3::zeros();
-        for p in self.gauss_points(3) {
+        for p in self.gauss_points(GaussLegendre::Three) {
             f += Vector3::from(p.shape) * (q * p.weight);
         }
         f

@@ -36,7 +36,7 @@ use nalgebra::{Matrix2, Point2, SMatrix, SVector, Vector2};
 
 use crate::edge3::{Edge3, shape as shape3};
 use crate::interface::{InterfaceGeometryError, InterfaceQuadrature};
-use crate::quadrature::gauss_legendre;
+use crate::quadrature::GaussLegendre;
 
 /// Nodal vector of the 6-node interface element, order 1..6.
 pub type Vector6 = SVector<f64, 6>;
@@ -174,7 +174,7 @@ impl Interface3Geometry {
                 })
             }
             InterfaceQuadrature::Gauss2 => {
-                let g = gauss_legendre(3);
+                let g = GaussLegendre::Three.points();
                 [0, 1, 2].map(|q| {
                     let (s, w) = g[q];
                     let p = self.bottom.point(s, w);

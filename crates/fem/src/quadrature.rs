@@ -12,7 +12,7 @@
 //! | [`TriangleRule::Degree5`] | 7 | 5 | Radon (1948): centroid and two orbits `(6 ∓ √15)/21` |
 //!
 //! All weights are positive and all points interior. Segment rules
-//! ([`gauss_legendre`]) are Gauss–Legendre on `[−1, 1]`.
+//! ([`GaussLegendre`]) are Gauss–Legendre on `[−1, 1]`.
 
 /// A Gauss rule on the reference triangle.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -124,12 +124,46 @@ impl TriangleRule {
     }
 }
 
-/// Gauss–Legendre points and weights on `[−1, 1]` with `n = 1..=4` points
-/// (exact to degree `2n − 1`).
-///
-/// # Panics
-/// Never for `n` in `1..=4`; other `n` are a programming error and panic.
-pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
+/// Gauss–Legendre rules on `[−1, 1]` with 1 to 4 points (exact to degree
+/// `2n − 1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GaussLegendre {
+    /// 1 point (degree 1).
+    One,
+    /// 2 points (degree 3).
+    Two,
+    /// 3 points (degree 5).
+    Three,
+    /// 4 points (degree 7).
+    Four,
+}
+
+impl GaussLegendre {
+    /// All rules, fewest points first.
+    pub const ALL: [GaussLegendre; 4] = [
+        GaussLegendre::One,
+        GaussLegendre::Two,
+        GaussLegendre::Three,
+        GaussLegendre::Four,
+    ];
+
+    /// Number of points.
+    pub fn n(self) -> usize {
+        match self {
+            GaussLegendre::One => 1,
+            GaussLegendre::Two => 2,
+            GaussLegendre::Three => 3,
+            GaussLegendre::Four => 4,
+        }
+    }
+
+    /// Points and weights `(s, w)`.
+    pub fn points(self) -> &'static [(f64, f64)] {
+        gauss_legendre_table(self)
+    }
+}
+
+fn gauss_legendre_table(rule: GaussLegendre) -> &'static [(f64, f64)] {
     const G1: [(f64, f64); 1] = [(0.0, 2.0)];
     const G2: [(f64, f64); 2] = [
         (-0.577_350_269_189_625_8, 1.0),
@@ -146,12 +180,11 @@ pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
         (0.339_981_043_584_856_26, 0.652_145_154_862_546_1),
         (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
     ];
-    match n {
-        1 => &G1,
-        2 => &G2,
-        3 => &G3,
-        4 => &G4,
-        _ => panic!("gauss_legendre: {n} points is not tabulated (1..=4)"),
+    match rule {
+        GaussLegendre::One => &G1,
+        GaussLegendre::Two => &G2,
+        GaussLegendre::Three => &G3,
+        GaussLegendre::Four => &G4,
     }
 }
 
@@ -208,9 +241,11 @@ mod tests {
 
     #[test]
     fn gauss_legendre_is_exact_to_degree_2n_minus_1() {
-        for n in 1..=4 {
+        for rule in GaussLegendre::ALL {
+            let n = rule.n();
             for k in 0..2 * n {
-                let q: f64 = gauss_legendre(n)
+                let q: f64 = rule
+                    .points()
                     .iter()
                     .map(|(x, w)| w * x.powi(k as i32))
                     .sum();
@@ -222,7 +257,8 @@ mod tests {
                 assert!((q - e).abs() < 1e-15, "n = {n}, x^{k}: {q} vs {e}");
             }
             let k = 2 * n;
-            let q: f64 = gauss_legendre(n)
+            let q: f64 = rule
+                .points()
                 .iter()
                 .map(|(x, w)| w * x.powi(k as i32))
                 .sum();

@@ -238,7 +238,10 @@ mod tests {
         // The weights sum to h times the arc length of the rule (3-point
         // Gauss, the rule of K and f, so K·1 = f/T∞ exactly), which on this
         // curved edge is within 1e-3 of the 4-point length.
-        let len3: f64 = e.gauss_points(3).map(|p| p.weight).sum();
+        let len3: f64 = e
+            .gauss_points(tecon_fem::quadrature::GaussLegendre::Three)
+            .map(|p| p.weight)
+            .sum();
         assert!((w.iter().sum::<f64>() - 10.25 * len3).abs() < 1e-12);
         assert!((len3 - e.length()).abs() < 1e-3 * e.length());
         let p = |x: f64, y: f64| Point2::new(x, y);

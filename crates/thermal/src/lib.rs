@@ -26,7 +26,7 @@
 //! assert!(snaps[1].balance.relative_residual() < 1e-10);
 //! // Coupling to the elastic solve: element temperatures and references.
 //! let system = model.assemble()?;
-//! let t_ref = system.reference_temperature().expect("initial temperature given");
+//! let t_ref = system.reference_temperature().ok_or("no initial temperature")?;
 //! assert_eq!(t_ref.len(), snaps[1].element_temperature.len());
 //! # Ok(()) }
 //! ```

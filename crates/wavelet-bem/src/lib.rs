@@ -17,10 +17,12 @@
 //! ([`nystrom`], the reference).
 //!
 //! ```no_run
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! use tecon_wavelet_bem::{sections, solve, Options};
-//! let sec = sections::ellipse(2.0, 1.0).unwrap();
-//! let sol = solve(&sec, &Options::default()).unwrap();
+//! let sec = sections::ellipse(2.0, 1.0)?;
+//! let sol = solve(&sec, &Options::default())?;
 //! println!("J = {}", sol.torsional_rigidity);
+//! # Ok(()) }
 //! ```
 //!
 //! ## Glossary

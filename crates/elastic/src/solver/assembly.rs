@@ -416,7 +416,7 @@ impl StaticSolver<'_> {
                 // the outward normal the right normal of a → b), 3-point
                 // Gauss in the isoparametric arc length.
                 for (nodes, edge, p) in &p2.pressure {
-                    for q in edge.gauss_points(3) {
+                    for q in edge.gauss_points(tecon_fem::quadrature::GaussLegendre::Three) {
                         for (k, &v) in nodes.iter().enumerate() {
                             let w = p * q.shape[k] * q.weight * loads.pressure;
                             f[2 * v] += w * q.normal.x;

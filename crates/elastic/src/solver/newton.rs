@@ -194,13 +194,14 @@ impl StaticSolver<'_> {
                     if !predicted.is_empty() {
                         // the trial cost a solve: it counts as an iteration
                         reach = 1;
-                        let mut again = history.last().cloned().expect("this iterate's record");
-                        if let Some(h) = history.last_mut() {
-                            h.predicted = predicted.len();
-                            h.rejected = true;
+                        if let Some(mut again) = history.last().cloned() {
+                            if let Some(h) = history.last_mut() {
+                                h.predicted = predicted.len();
+                                h.rejected = true;
+                            }
+                            again.iteration += 1;
+                            history.push(again);
                         }
-                        again.iteration += 1;
-                        history.push(again);
                         if history.len() >= opts.max_iterations {
                             break;
                         }
