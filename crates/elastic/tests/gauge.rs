@@ -12,17 +12,15 @@
 //!   outer ring ───  joint "inner_outer"  ─── inner ring (+50 K)
 //! ```
 
+mod common;
+
 use std::f64::consts::PI;
 
 use tecon_contact::PaperJoint;
-use tecon_elastic::{Analysis, ElasticModel, Joint, Loads, Material, SolverOptions, StaticSolver};
+use tecon_elastic::{Joint, Loads, SolverOptions, StaticSolver};
 use tecon_mesh::{RingLayer, layered_annulus};
 
-const STEEL: Material = Material {
-    youngs_modulus: 207e9,
-    poisson_ratio: 0.3,
-    expansion: 12.51e-6,
-};
+use common::STEEL;
 
 #[test]
 fn free_translation_is_removed_from_the_output() {
@@ -40,13 +38,7 @@ fn free_translation_is_removed_from_the_output() {
     )
     .unwrap();
     let law = PaperJoint::with_default_penalty(STEEL.youngs_modulus, 0.05, 0.0, 0.3).unwrap();
-    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap()
+    let model = common::steel_sector(&mesh)
         .remove_free_translations(true)
         .interface("inner_outer", Joint::Frictional(law))
         .unwrap();

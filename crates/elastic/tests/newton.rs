@@ -11,20 +11,16 @@
 //!   symmetry on θ = 0 and θ = π/2
 //! ```
 
+mod common;
+
 use std::f64::consts::PI;
 
 use tecon_contact::{LinearJoint, PaperJoint};
 use tecon_elastic::analytical::{Cylinders, ShrinkFit};
-use tecon_elastic::{
-    Analysis, ElasticError, ElasticModel, Joint, Loads, Material, SolverOptions, StaticSolver,
-};
+use tecon_elastic::{ElasticError, Joint, Loads, SolverOptions, StaticSolver};
 use tecon_mesh::{Mesh, RingLayer, layered_annulus};
 
-const STEEL: Material = Material {
-    youngs_modulus: 207e9,
-    poisson_ratio: 0.3,
-    expansion: 12.51e-6,
-};
+use common::STEEL;
 
 fn two_rings(rows: usize, segments: usize) -> Mesh {
     let layer = |name: &str, r_in: f64, r_out: f64| RingLayer {
@@ -65,13 +61,7 @@ fn a_stiff_linear_joint_converges_at_its_round_off_floor() {
     let mesh = two_rings(4, 32);
     let h = 0.1 / 4.0;
     let k = 1e5 * STEEL.youngs_modulus / h;
-    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap()
+    let model = common::steel_sector(&mesh)
         .interface(
             "inner_outer",
             Joint::Linear(LinearJoint::new(k, k).unwrap()),
@@ -121,13 +111,7 @@ fn a_stiff_linear_joint_converges_at_its_round_off_floor() {
 fn a_failure_names_the_increment_the_fractions_and_the_attempts() {
     let mesh = two_rings(2, 8);
     let law = PaperJoint::with_default_penalty(STEEL.youngs_modulus, 0.05, 0.0, 0.3).unwrap();
-    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap()
+    let model = common::steel_sector(&mesh)
         .interface("inner_outer", Joint::Frictional(law))
         .unwrap();
     let opts = SolverOptions {

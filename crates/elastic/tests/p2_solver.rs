@@ -34,11 +34,7 @@ use tecon_fem::quadrature::TriangleRule;
 use tecon_fem::triangle6::Triangle6;
 use tecon_mesh::{Mesh, RingLayer, layered_annulus_of_order};
 
-const STEEL: Material = Material {
-    youngs_modulus: 207e9,
-    poisson_ratio: 0.3,
-    expansion: 12.51e-6,
-};
+use common::STEEL;
 
 fn rings(layers: &[(&str, f64, f64)], rows: usize, segments: usize, order: usize) -> Mesh {
     let layers: Vec<RingLayer> = layers
@@ -110,15 +106,7 @@ fn p2_lame_cylinder_through_the_solver_converges_at_orders_3_and_2() {
     let (mut hs, mut l2s, mut ens) = (vec![], vec![], vec![]);
     for n in [4, 8, 16] {
         let mesh = rings(&[("ring", a, b)], n, 4 * n, 2);
-        let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-            .material_everywhere(STEEL)
-            .unwrap()
-            .symmetry("start")
-            .unwrap()
-            .symmetry("end")
-            .unwrap()
-            .pressure("inner", p)
-            .unwrap();
+        let model = common::lame_sector(&mesh, p);
         let mut solver = StaticSolver::new(&model, SolverOptions::default()).unwrap();
         solver.advance(&Loads::mechanical()).unwrap();
         let hdur = |r: f64| {
@@ -176,13 +164,7 @@ fn p2_shrink_fit(rows: usize, segments: usize, phi: f64) -> (f64, f64, usize) {
     };
     let law = PaperJoint::with_default_penalty(STEEL.youngs_modulus, 0.1 / rows as f64, 0.0, phi)
         .unwrap();
-    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap()
+    let model = common::steel_sector(&mesh)
         .interface("inner_outer", Joint::Frictional(law))
         .unwrap();
     let mut solver = StaticSolver::new(
@@ -267,15 +249,7 @@ fn p2_bonded_rings_match_the_single_cylinder() {
     let (mut errs, mut t_errs) = (Vec::new(), Vec::new());
     for n in [2, 4] {
         let mesh = rings(&[("core", a, 1.5), ("layer", 1.5, b)], n, 8 * n, 2);
-        let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-            .material_everywhere(STEEL)
-            .unwrap()
-            .symmetry("start")
-            .unwrap()
-            .symmetry("end")
-            .unwrap()
-            .pressure("inner", p)
-            .unwrap()
+        let model = common::lame_sector(&mesh, p)
             .interface("core_layer", Joint::Linear(LinearJoint::new(k, k).unwrap()))
             .unwrap();
         let mut solver = StaticSolver::new(&model, SolverOptions::default()).unwrap();
@@ -442,13 +416,7 @@ fn p2_block_slides_on_a_mohr_coulomb_joint() {
 #[test]
 fn p2_temperature_change_of_the_wrong_length_is_a_clear_error() {
     let mesh = rings(&[("ring", 1.0, 2.0)], 1, 2, 2);
-    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap();
+    let model = common::steel_sector(&mesh);
     let mut solver = StaticSolver::new(&model, SolverOptions::default()).unwrap();
     let n = mesh.n_triangles();
     let e = solver

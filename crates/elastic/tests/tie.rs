@@ -18,20 +18,16 @@
 //!   outer ring 1.1 … 1.2 ── tied "inner_outer" ── inner ring 1 … 1.1 ← p
 //! ```
 
+mod common;
+
 use std::f64::consts::FRAC_PI_2;
 
 use tecon_contact::LinearJoint;
 use tecon_elastic::analytical::LameCylinder;
-use tecon_elastic::{
-    Analysis, ElasticModel, Joint, Loads, Material, SolverOptions, StaticSolver, TiedMesh,
-};
+use tecon_elastic::{Joint, Loads, SolverOptions, StaticSolver, TiedMesh};
 use tecon_mesh::{Mesh, RingLayer, layered_annulus, layered_annulus_of_order};
 
-const STEEL: Material = Material {
-    youngs_modulus: 207e9,
-    poisson_ratio: 0.3,
-    expansion: 12.51e-6,
-};
+use common::STEEL;
 const P: f64 = 10e6;
 
 fn layer(name: &str, r_in: f64, r_out: f64, rows: usize) -> RingLayer {
@@ -59,15 +55,7 @@ fn two_rings(rows: usize, segments: usize) -> Mesh {
 /// Displacements under the internal pressure, with `joint` on the interface
 /// (None: the mesh has no interface left).
 fn solve(mesh: &Mesh, joint: Option<Joint>) -> Vec<f64> {
-    let mut model = ElasticModel::new(mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap()
-        .pressure("inner", P)
-        .unwrap();
+    let mut model = common::lame_sector(mesh, P);
     if let Some(j) = joint {
         model = model.interface("inner_outer", j).unwrap();
     }

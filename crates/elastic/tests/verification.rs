@@ -16,11 +16,7 @@ use tecon_elastic::{
 };
 use tecon_mesh::{Mesh, RingLayer, layered_annulus};
 
-const STEEL: Material = Material {
-    youngs_modulus: 207e9,
-    poisson_ratio: 0.3,
-    expansion: 12.51e-6,
-};
+use common::STEEL;
 
 fn quarter_ring(a: f64, b: f64, rows: usize, segments: usize, t0: f64, t1: f64) -> Mesh {
     layered_annulus(
@@ -88,15 +84,7 @@ fn lame_cylinder_converges_at_orders_two_and_one() {
     let (mut hs, mut eus, mut ess) = (vec![], vec![], vec![]);
     for n in [4, 8, 16, 32] {
         let mesh = quarter_ring(a, b, n, 2 * n, 0.0, PI / 2.0);
-        let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-            .material_everywhere(STEEL)
-            .unwrap()
-            .symmetry("start")
-            .unwrap()
-            .symmetry("end")
-            .unwrap()
-            .pressure("inner", p)
-            .unwrap();
+        let model = common::lame_sector(&mesh, p);
         let mut solver = StaticSolver::new(&model, SolverOptions::default()).unwrap();
         solver.advance(&Loads::mechanical()).unwrap();
         let s = solver.stresses();
@@ -142,15 +130,7 @@ fn inclined_symmetry_matches_aligned(solves: usize) {
     let (a, b, p) = (1.0, 2.0, 100e6);
     let solve = |t0: f64| {
         let mesh = quarter_ring(a, b, 8, 16, t0, t0 + PI / 2.0);
-        let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-            .material_everywhere(STEEL)
-            .unwrap()
-            .symmetry("start")
-            .unwrap()
-            .symmetry("end")
-            .unwrap()
-            .pressure("inner", p)
-            .unwrap();
+        let model = common::lame_sector(&mesh, p);
         let mut solver = StaticSolver::new(&model, SolverOptions::default()).unwrap();
         for _ in 0..solves {
             solver.advance(&Loads::mechanical()).unwrap();
@@ -329,13 +309,7 @@ fn shrink_fit_solve(
     let h = 0.1 / 8.0;
     let law =
         PaperJoint::with_default_penalty(STEEL.youngs_modulus * k_scale, h, 0.0, 0.3).unwrap();
-    let model = ElasticModel::new(mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap()
+    let model = common::steel_sector(mesh)
         .interface("inner_outer", Joint::Frictional(law))
         .unwrap();
     let opts = SolverOptions {

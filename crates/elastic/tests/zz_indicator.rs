@@ -35,15 +35,11 @@ use std::f64::consts::PI;
 
 use nalgebra::{Matrix3, Vector3};
 use tecon_elastic::analytical::LameCylinder;
-use tecon_elastic::{Analysis, ElasticModel, Loads, Material, SolverOptions, StaticSolver};
+use tecon_elastic::{Analysis, Loads, SolverOptions, StaticSolver};
 use tecon_fem::quadrature::TriangleRule;
 use tecon_mesh::{Mesh, RingLayer, layered_annulus_of_order};
 
-const STEEL: Material = Material {
-    youngs_modulus: 207e9,
-    poisson_ratio: 0.3,
-    expansion: 12.51e-6,
-};
+use common::STEEL;
 const A: f64 = 1.0;
 const B: f64 = 2.0;
 const P: f64 = 100e6;
@@ -84,15 +80,7 @@ fn mesh(n: usize, order: usize) -> Mesh {
 /// (h, η, true energy error ‖σ − σ_h‖, relative η) of one solve.
 fn solve(n: usize, order: usize) -> (f64, f64, f64, f64) {
     let mesh = mesh(n, order);
-    let model = ElasticModel::new(&mesh, Analysis::PlaneStrain)
-        .material_everywhere(STEEL)
-        .unwrap()
-        .symmetry("start")
-        .unwrap()
-        .symmetry("end")
-        .unwrap()
-        .pressure("inner", P)
-        .unwrap();
+    let model = common::lame_sector(&mesh, P);
     let mut solver = StaticSolver::new(&model, SolverOptions::default()).unwrap();
     solver.advance(&Loads::mechanical()).unwrap();
     let field = solver.stresses();

@@ -1,7 +1,34 @@
 //! Set-ups shared by the elastic integration tests.
 #![allow(dead_code)] // each test crate uses a part
 
+use tecon_elastic::{Analysis, ElasticModel, Material};
 use tecon_mesh::Mesh;
+
+/// The steel of the tests (the vessel's: E = 207 GPa, ν = 0.3,
+/// α = 12.51e-6 /K).
+pub const STEEL: Material = Material {
+    youngs_modulus: 207e9,
+    poisson_ratio: 0.3,
+    expansion: 12.51e-6,
+};
+
+/// A plane-strain steel model of an annulus sector `mesh` with symmetry on
+/// its edge sets `start` and `end`.
+pub fn steel_sector(mesh: &Mesh) -> ElasticModel<'_> {
+    ElasticModel::new(mesh, Analysis::PlaneStrain)
+        .material_everywhere(STEEL)
+        .unwrap()
+        .symmetry("start")
+        .unwrap()
+        .symmetry("end")
+        .unwrap()
+}
+
+/// The same under the internal pressure `p` on the edge set `inner` (the
+/// Lamé cylinder).
+pub fn lame_sector(mesh: &Mesh, p: f64) -> ElasticModel<'_> {
+    steel_sector(mesh).pressure("inner", p).unwrap()
+}
 
 /// Least-squares slope of log(e) against log(h).
 pub fn slope(h: &[f64], e: &[f64]) -> f64 {
