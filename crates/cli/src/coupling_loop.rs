@@ -196,6 +196,55 @@ fn max_rel_change(a: &[f64], b: &[f64]) -> f64 {
         / scale
 }
 
+/// Aitken's dynamic relaxation of the coupling iteration (Irons and Tuck):
+/// the next state is `used + ω (G(used) − used)`, with ω from the last two
+/// conductance residuals `r = h(G(used)) − h(used)`,
+///
+/// ```text
+/// ω_k = −ω_{k−1} r_{k−1}·(r_k − r_{k−1}) / |r_k − r_{k−1}|²,
+/// ```
+///
+/// kept in [ω_MIN, 1]. A plain iteration (ω = 1) of a map whose slope is
+/// below −1 (a joint point whose conductance rises steeply with the
+/// pressure its own cooling lowers) alternates between two states for
+/// ever; for a two-cycle r_k = −r_{k−1} this gives ω = ω_{k−1}/2, and for
+/// a scalar affine map with slope g′ the exact 1/(1 − g′) in one step. Only
+/// the path changes: the fixed point, and the settle test on the
+/// unrelaxed change, are those of the plain iteration.
+#[derive(Default)]
+struct Aitken {
+    /// the last factor and residual
+    last: Option<(f64, Vec<f64>)>,
+}
+
+/// Smallest relaxation factor.
+const OMEGA_MIN: f64 = 0.05;
+
+impl Aitken {
+    /// The factor for the residual `h_next − h_used`.
+    fn factor(&mut self, h_next: &[f64], h_used: &[f64]) -> f64 {
+        let r: Vec<f64> = h_next.iter().zip(h_used).map(|(a, b)| a - b).collect();
+        let omega = match &self.last {
+            None => 1.0,
+            Some((w, r0)) => {
+                let (mut num, mut den) = (0.0, 0.0);
+                for (a, b) in r.iter().zip(r0) {
+                    let d = a - b;
+                    num += b * d;
+                    den += d * d;
+                }
+                if den > 0.0 {
+                    (-w * num / den).clamp(OMEGA_MIN, 1.0)
+                } else {
+                    *w
+                }
+            }
+        };
+        self.last = Some((omega, r));
+        omega
+    }
+}
+
 /// One step of the two-way schedule: Δt, θ, and whether an output time ends it.
 struct Step {
     dt: f64,
@@ -399,6 +448,7 @@ impl Loop<'_, '_> {
         let mut used = first_used;
         let mut h_used = conductances(self.setup, &mut self.model, &used)?;
         let mut iterations = 0;
+        let mut relax = Aitken::default();
         loop {
             iterations += 1;
             let a = self.attempt(b, &used, checkpoint, guess.as_ref())?;
@@ -416,8 +466,13 @@ impl Loop<'_, '_> {
                 }
                 return Ok((a, iterations, change));
             }
-            used = next;
-            h_used = h_next;
+            let w = relax.factor(&h_next, &h_used);
+            used = if w == 1.0 {
+                next
+            } else {
+                blend(&used, &next, w)
+            };
+            h_used = conductances(self.setup, &mut self.model, &used)?;
         }
     }
 
@@ -670,4 +725,61 @@ pub(crate) fn two_way<'s>(
         contact_seconds: lp.contact_seconds,
         coupling: Some(lp.stats),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Aitken;
+
+    /// Iterates x ← x + ω (g(x) − x) with Aitken's ω until |g(x) − x| ≤ 1e-12;
+    /// returns the iterations and the final x.
+    fn relaxed(g: impl Fn(f64) -> f64, x0: f64) -> (usize, f64) {
+        let mut relax = Aitken::default();
+        let mut x = x0;
+        for k in 1..=100 {
+            let gx = g(x);
+            if (gx - x).abs() <= 1e-12 {
+                return (k, x);
+            }
+            let w = relax.factor(&[gx], &[x]);
+            x += w * (gx - x);
+        }
+        (usize::MAX, x)
+    }
+
+    #[test]
+    fn aitken_settles_a_map_that_the_plain_iteration_cycles_or_diverges_on() {
+        // slope −1: the plain iteration alternates 0, 2, 0, 2, … for ever
+        let (k, x) = relaxed(|x| 2.0 - x, 0.0);
+        assert!(k <= 3, "{k} iterations");
+        assert!((x - 1.0).abs() < 1e-12, "{x}");
+        // slope −3: the plain iteration diverges; Aitken needs one secant step
+        let (k, x) = relaxed(|x| 4.0 - 3.0 * x, 0.0);
+        assert!(k <= 3, "{k} iterations");
+        assert!((x - 1.0).abs() < 1e-12, "{x}");
+        // a nonlinear map with slope −2.2 at its fixed point x* = 1
+        let g = |x: f64| 1.0 - 2.2 * (x - 1.0) + 0.3 * (x - 1.0).powi(2);
+        let (k, x) = relaxed(g, 1.3);
+        assert!(k <= 12, "{k} iterations");
+        assert!((x - 1.0).abs() < 1e-11, "{x}");
+    }
+
+    #[test]
+    fn aitken_never_turns_an_unstable_fixed_point_into_an_attractor() {
+        // slope +2 at x* = 1: ω ∈ [0.05, 1] keeps the relaxed map's slope
+        // 1 + ω (g′ − 1) > 1, so the iteration still leaves x* (a steady state
+        // that a transient cannot reach is not reported as the answer)
+        let (k, x) = relaxed(|x| 1.0 + 2.0 * (x - 1.0), 1.001);
+        assert_eq!(k, usize::MAX);
+        assert!((x - 1.0).abs() > 0.001, "{x}");
+    }
+
+    #[test]
+    fn aitken_keeps_a_converging_iteration_plain() {
+        // slope +0.5: the residuals shrink monotonically; ω stays ≤ 1 and
+        // the iteration converges as fast as the plain one or faster
+        let (k, x) = relaxed(|x| 0.5 * x + 0.5, 0.0);
+        assert!(k <= 42, "{k} iterations");
+        assert!((x - 1.0).abs() < 1e-11, "{x}");
+    }
 }
