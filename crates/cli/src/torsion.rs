@@ -436,19 +436,19 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
             .tau_error
             .map(|e| format!("{e:.1e}"))
             .unwrap_or_else(|| "- (singular)".into());
+        // "n = 512 vs 256" (difference), "n = 512 vs 256, rate from 128" (extrapolated)
+        let from = &ctl.estimated_from;
+        let basis = match from.as_slice() {
+            [older, coarse, fine] => format!("n = {fine} vs {coarse}, rate from {older}"),
+            [coarse, fine] => format!("n = {fine} vs {coarse}"),
+            _ => format!("n = {n}"),
+        };
         say!(
-            "estimated error    J {:.1e}, τ_max {tau_e}, shear centre {:.1e}, Γ {:.1e} (relative; tolerance {:.1e}; n = {} vs {})",
+            "estimated error    J {:.1e}, τ_max {tau_e}, shear centre {:.1e}, Γ {:.1e} (relative; tolerance {:.1e}; {basis})",
             ctl.j_error,
             ctl.shear_centre_error,
             ctl.warping_error,
             ctl.tol,
-            n,
-            ctl.levels
-                .iter()
-                .rev()
-                .nth(1)
-                .map(|l| l.n.to_string())
-                .unwrap_or_else(|| "-".into())
         );
         say!(
             "converged          {}",
@@ -523,6 +523,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                     "omega": "normalised warping function about the shear centre, ∂ω/∂n = (y − y_S) n_x − (x − x_S) n_y, ∫ω dA = 0; boundary values in warping.csv with --out",
                 },
                 "levels": ctl.levels,
+                "estimated_from": ctl.estimated_from,
                 "warnings": ctl.warnings,
                 "holes": sol.holes.iter().zip(&section.holes).map(|(h, g)| json!({
                     "stress_function": h.stress_function,

@@ -340,3 +340,100 @@ fn sizes_beyond_memory_are_refused_up_front() {
     // a one-curve section at a size that fits is not refused
     assert!(memory::check(Method::Daubechies, 1, 256).is_ok());
 }
+
+/// The extrapolated estimate (three rungs, db4) is an upper bound of the
+/// true error on every section with a closed form, at every tolerance:
+/// J and τ_max of the reported (finest) rung against the exact values.
+#[test]
+fn reported_errors_bound_the_true_errors() {
+    use tecon_wavelet_bem::analytical::{Ellipse, EquilateralTriangle, Groove, Limacon, Rectangle};
+    let rect = |w: f64, h: f64| {
+        let r = Rectangle { w, h };
+        (
+            sections::rectangle(w, h).unwrap(),
+            r.rigidity(),
+            Some(r.max_shear()),
+        )
+    };
+    let ell = |a: f64, b: f64| {
+        let e = Ellipse { a, b };
+        (
+            sections::ellipse(a, b).unwrap(),
+            e.rigidity(),
+            Some(e.max_shear()),
+        )
+    };
+    let tri = EquilateralTriangle { a: 1.0 };
+    let lim = Limacon { a: 1.0, c: 0.3 };
+    let groove = Groove { a: 1.0, b: 0.3 };
+    let box_section = sections::hollow_rectangle(2.0, 1.0, 0.1, 0.1).unwrap();
+    let box_reference = solve(&box_section, &opts(Method::Daubechies, 2048))
+        .unwrap()
+        .torsional_rigidity;
+    let cases: Vec<(Section, f64, Option<f64>)> = vec![
+        rect(1.0, 1.0),
+        rect(2.0, 1.0),
+        rect(1.0, 0.1),
+        (
+            sections::triangle(1.0).unwrap(),
+            tri.rigidity(),
+            Some(tri.max_shear()),
+        ),
+        ell(2.0, 1.0),
+        ell(1.0, 0.05),
+        (
+            sections::limacon(1.0, 0.3).unwrap(),
+            lim.rigidity(),
+            Some(lim.max_shear()),
+        ),
+        (
+            sections::tube(1.0, 0.5).unwrap(),
+            PI * (1.0 - 0.0625) / 2.0,
+            Some(1.0),
+        ),
+        (
+            sections::groove(1.0, 0.3).unwrap(),
+            groove.rigidity(),
+            Some(groove.max_shear()),
+        ),
+        // no closed form: the box against its own n = 2048 solution (whose
+        // difference from n = 1024 is 3e-15)
+        (box_section.clone(), box_reference, None),
+    ];
+    let mut extrapolated = 0;
+    for (sec, exact_j, exact_tau) in &cases {
+        for tol in [1e-6, 1e-8, 1e-10] {
+            let c = solve_to_tolerance(sec, &Options::default(), tol, 2048).unwrap();
+            let ej = rel(c.solution.torsional_rigidity, *exact_j);
+            let etau = exact_tau.zip(c.max_shear.value).map(|(t, v)| rel(v, t));
+            let rungs = c.levels.len();
+            eprintln!(
+                "{} tol {tol:.0e}: n {} ({rungs} rungs) J err {ej:.1e} est {:.1e}; τ err {:.1e} est {:.1e}; converged {}",
+                sec.name,
+                c.solution.options.n,
+                c.j_error,
+                etau.unwrap_or(f64::NAN),
+                c.tau_error.unwrap_or(f64::NAN),
+                c.converged
+            );
+            assert!(
+                ej <= c.j_error,
+                "{} tol {tol:e}: J error {ej:e} > estimate {:e}",
+                sec.name,
+                c.j_error
+            );
+            if let (Some(e), Some(est)) = (etau, c.tau_error) {
+                assert!(
+                    e <= est,
+                    "{} tol {tol:e}: τ error {e:e} > estimate {est:e}",
+                    sec.name
+                );
+            }
+            if rungs >= 3 {
+                extrapolated += 1;
+            }
+        }
+    }
+    // the three-rung path was exercised
+    assert!(extrapolated >= 6, "{extrapolated}");
+}
