@@ -220,8 +220,9 @@ fn diffs<T>(rungs: &[T], f: impl Fn(&T, &T) -> Option<f64>) -> Option<Difference
 pub fn rate_floor(opts: &Options) -> Option<f64> {
     match opts.method {
         Method::Daubechies => {
-            let k = (2 * opts.wavelet_order).min(opts.grading as usize) - 1;
-            Some(0.5f64.powi(k as i32))
+            // (a grading outside 2..=12 is refused by the solve itself)
+            let k = (2.0 * opts.wavelet_order as f64).min(opts.grading.floor()) - 1.0;
+            (k >= 1.0).then(|| 0.5f64.powf(k))
         }
         _ => None,
     }
