@@ -240,11 +240,9 @@ const EXTRAPOLATE_BELOW: f64 = 0.25;
 /// ρ_e = max(ρ, floor) and a safety factor 2: e_n ≈ 2 d_k ρ_e/(1 − ρ_e).
 /// Round-off does not shrink with n, so the estimate never goes below
 /// min(d_k, [`ROUND_OFF`]): below that level it is the plain difference.
-/// Every estimate is at least N ε, N the number of unknowns of the finest
-/// rung: the round-off of a dense solve, which no difference of rungs can
-/// see (measured: τ_max of the 1 × 0.05 ellipse at n = 1024 is 1.3e-13 off
-/// while the rungs agree to 8.6e-14).
-fn estimate(d: &Differences, floor: Option<f64>, unknowns: usize) -> f64 {
+/// Every estimate is at least [`round_off`]: the round-off of a dense
+/// solve, which no difference of rungs can see.
+fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
     let e = match (d.before, floor) {
         (Some(before), Some(f)) if before > 0.0 && d.last <= EXTRAPOLATE_BELOW * before => {
             let rho = (d.last / before).max(f);
@@ -252,7 +250,21 @@ fn estimate(d: &Differences, floor: Option<f64>, unknowns: usize) -> f64 {
         }
         _ => d.last,
     };
-    e.max(unknowns as f64 * f64::EPSILON)
+    e.max(round_off)
+}
+
+/// Round-off level of a result with `unknowns` unknowns on `section`:
+/// N ε √(P²/4πA) (P all boundary curves, A the area; the shape factor is 1
+/// for a disc and grows with slenderness). Measured: τ_max of the 1 × 0.05
+/// ellipse at n = 1024 is 1.3e-13 off while its rungs agree to 8.6e-14, J of
+/// the 1 × 0.02 ellipse at n = 2048 1.6e-12 off while they agree to 5.5e-13
+/// (N ε alone: 4.5e-13; with the factor 4.5: 2.0e-12).
+fn round_off(section: &Section, unknowns: usize) -> f64 {
+    let p = section.total_perimeter();
+    let shape = (p * p / (4.0 * std::f64::consts::PI * section.area))
+        .sqrt()
+        .max(1.0);
+    unknowns as f64 * f64::EPSILON * shape
 }
 
 /// Relative level below which differences between rungs may be round-off
@@ -265,13 +277,13 @@ const ROUND_OFF: f64 = 1e-12;
 fn jt_estimates(
     values: &[(f64, Option<f64>)],
     floor: Option<f64>,
-    unknowns: usize,
+    round_off: f64,
 ) -> (f64, Option<f64>) {
     let j = diffs(values, |a, b| Some(rel(a.0, b.0)));
     let tau = diffs(values, |a, b| Some(rel(a.1?, b.1?)));
     (
-        j.map_or(0.0, |d| estimate(&d, floor, unknowns)),
-        tau.map(|d| estimate(&d, floor, unknowns)),
+        j.map_or(0.0, |d| estimate(&d, floor, round_off)),
+        tau.map(|d| estimate(&d, floor, round_off)),
     )
 }
 
@@ -292,8 +304,8 @@ fn finish(
         .iter()
         .map(|r| (r.0.torsional_rigidity, r.1.value))
         .collect();
-    let unknowns = fine.0.options.n * fine.0.curve_count();
-    let (j_error, tau_error) = jt_estimates(&jt, floor, unknowns);
+    let round_off = round_off(&fine.0.section, fine.0.options.n * fine.0.curve_count());
+    let (j_error, tau_error) = jt_estimates(&jt, floor, round_off);
     let sec = &fine.0.section;
     let ip = sec.polar_moment();
     let rg = (ip / sec.area).sqrt();
@@ -302,11 +314,11 @@ fn finish(
         let (x, y) = (a.2.shear_centre, b.2.shear_centre);
         Some((x[0] - y[0]).hypot(x[1] - y[1]) / rg)
     })
-    .map_or(0.0, |d| estimate(&d, floor, unknowns));
+    .map_or(0.0, |d| estimate(&d, floor, round_off));
     let warping_error = diffs(&refs, |a, b| {
         Some((a.2.warping_constant - b.2.warping_constant).abs() / g_scale)
     })
-    .map_or(0.0, |d| estimate(&d, floor, unknowns));
+    .map_or(0.0, |d| estimate(&d, floor, round_off));
     let converged = j_error <= tol
         && tau_error.is_none_or(|e| e <= tol)
         && shear_centre_error <= tol
@@ -452,8 +464,8 @@ pub fn solve_to_tolerance(
                 .iter()
                 .map(|r| (r.sol.torsional_rigidity, r.ms.value))
                 .collect();
-            let unknowns = n * section.curves().len();
-            let (ej, etau) = jt_estimates(&jt, floor, unknowns);
+            let round_off = round_off(section, n * section.curves().len());
+            let (ej, etau) = jt_estimates(&jt, floor, round_off);
             if (n >= accept_from && ej <= tol && etau.is_none_or(|e| e <= tol)) || at_cap {
                 // the warping outputs of the rungs the estimate uses
                 let k = levels.len();
