@@ -193,59 +193,89 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
     let speeds: Vec<f64> = nd.pts.iter().map(|p| p.speed()).collect();
     let qs: Vec<f64> = nd.flux.iter().zip(&speeds).map(|(q, s)| q * s).collect();
     let ws: Vec<f64> = nd.omega.iter().zip(&speeds).map(|(w, s)| w * s).collect();
-    let rows: Vec<f64> = (0..big)
+    // Every kernel depends on the pair through r², ln r and the two normal
+    // projections of x_i − x_j, and swapping i and j swaps the projections
+    // (d·n_i ↔ −d·n_j): each pair i < j is evaluated once (one logarithm)
+    // and adds to ψ, χ of both rows. Rows are cut into a fixed number of
+    // blocks, each summing into its own (ψ, χ), added in block order: the
+    // result does not depend on the thread count.
+    const BLOCKS: usize = 64;
+    let block = big.div_ceil(BLOCKS).max(1);
+    let partial: Vec<(Vec<f64>, Vec<f64>)> = (0..big.div_ceil(block))
         .into_par_iter()
-        .map(|i| {
-            let xi = &nd.pts[i];
-            let nx = normals[i];
-            let (ci, ii) = (i / m, i % m);
-            let (mut psi, mut chi) = (0.0, 0.0);
-            for j in 0..big {
-                let (qj, wj) = (qs[j], ws[j]);
-                if i == j {
-                    // the diagonal limit: only the double-normal kernel survives
-                    let l = (speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
-                    let a_dd = -(1.0 - 2.0 * l) * c8;
-                    let b_dd = 2.0 * c8;
-                    chi -= h * a_dd * wj + r[0] * b_dd * wj;
-                    continue;
+        .map(|b| {
+            let mut psi = vec![0.0; big];
+            let mut chi = vec![0.0; big];
+            for i in b * block..((b + 1) * block).min(big) {
+                let xi = &nd.pts[i];
+                let nx = normals[i];
+                let (ci, ii) = (i / m, i % m);
+                // the diagonal limit: only the double-normal kernel survives
+                let l = (speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+                let a_dd = -(1.0 - 2.0 * l) * c8;
+                let b_dd = 2.0 * c8;
+                chi[i] -= h * a_dd * ws[i] + r[0] * b_dd * ws[i];
+                let (qi, wi) = (qs[i], ws[i]);
+                let (mut psi_i, mut chi_i) = (0.0, 0.0);
+                for j in i + 1..big {
+                    let (qj, wj) = (qs[j], ws[j]);
+                    let ny = normals[j];
+                    let jj = j % m;
+                    let same = ci == j / m;
+                    let nn = nx[0] * ny[0] + nx[1] * ny[1];
+                    let d = diff(xi, &nd.pts[j]);
+                    let r2 = d[0] * d[0] + d[1] * d[1];
+                    let lnr = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
+                    // d·n_i and d·n_j (for row j: −d·n_j and −d·n_i)
+                    let dnx = d[0] * nx[0] + d[1] * nx[1];
+                    let dny = d[0] * ny[0] + d[1] * ny[1];
+                    let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
+                    // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|), L = ln r across curves
+                    let l = if same {
+                        lnr - sines[ii.abs_diff(jj)]
+                    } else {
+                        lnr
+                    };
+                    // A (smooth part) of the kernels; row j swaps a_dny and a_dnx
+                    let a_phi = r2 * (1.0 - l) * c8;
+                    let a_dny = -(1.0 - 2.0 * l) * dny * c8;
+                    let a_dnx = (1.0 - 2.0 * l) * dnx * c8;
+                    let a_dd = (cross - (1.0 - 2.0 * l) * nn) * c8;
+                    psi_i += h * (a_phi * qj - a_dny * wj);
+                    chi_i += h * (a_dnx * qj - a_dd * wj);
+                    psi[j] += h * (a_phi * qi - a_dnx * wi);
+                    chi[j] += h * (a_dny * qi - a_dd * wi);
+                    if same {
+                        // B (coefficient of ln|2 sin π(t − s)|), with Kress's weights
+                        let wr_i = r[(ii + m - jj) % m];
+                        let wr_j = r[(jj + m - ii) % m];
+                        let b_phi = -r2 * c8;
+                        let b_dny = 2.0 * dny * c8;
+                        let b_dnx = -2.0 * dnx * c8;
+                        let b_dd = 2.0 * nn * c8;
+                        psi_i += wr_i * (b_phi * qj - b_dny * wj);
+                        chi_i += wr_i * (b_dnx * qj - b_dd * wj);
+                        psi[j] += wr_j * (b_phi * qi - b_dnx * wi);
+                        chi[j] += wr_j * (b_dny * qi - b_dd * wi);
+                    }
                 }
-                let ny = normals[j];
-                let same = ci == j / m;
-                let nn = nx[0] * ny[0] + nx[1] * ny[1];
-                let d = diff(xi, &nd.pts[j]);
-                let r2 = d[0] * d[0] + d[1] * d[1];
-                let lnr = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
-                let dnx = d[0] * nx[0] + d[1] * nx[1];
-                let dny = d[0] * ny[0] + d[1] * ny[1];
-                let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
-                // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|), L = ln r across curves
-                let l = if same {
-                    lnr - sines[ii.abs_diff(j % m)]
-                } else {
-                    lnr
-                };
-                // A (smooth part) and B (coefficient of ln|2 sin π(t − s)|) of the kernels
-                let a_phi = r2 * (1.0 - l) * c8;
-                let a_dny = -(1.0 - 2.0 * l) * dny * c8;
-                let a_dnx = (1.0 - 2.0 * l) * dnx * c8;
-                let a_dd = (cross - (1.0 - 2.0 * l) * nn) * c8;
-                psi += h * (a_phi * qj - a_dny * wj);
-                chi += h * (a_dnx * qj - a_dd * wj);
-                if same {
-                    let wr = r[(ii + m - (j % m)) % m];
-                    let b_phi = -r2 * c8;
-                    let b_dny = 2.0 * dny * c8;
-                    let b_dnx = -2.0 * dnx * c8;
-                    let b_dd = 2.0 * nn * c8;
-                    psi += wr * (b_phi * qj - b_dny * wj);
-                    chi += wr * (b_dnx * qj - b_dd * wj);
-                }
+                psi[i] += psi_i;
+                chi[i] += chi_i;
             }
-            (nd.omega[i] * chi - psi * nd.flux[i]) * speeds[i] * h
+            (psi, chi)
         })
         .collect();
-    rows.iter().sum()
+    let mut psi = vec![0.0; big];
+    let mut chi = vec![0.0; big];
+    for (p, c) in &partial {
+        for k in 0..big {
+            psi[k] += p[k];
+            chi[k] += c[k];
+        }
+    }
+    (0..big)
+        .map(|i| (nd.omega[i] * chi[i] - psi[i] * nd.flux[i]) * speeds[i] * h)
+        .sum()
 }
 
 impl TorsionSolution {

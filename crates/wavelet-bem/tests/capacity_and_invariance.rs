@@ -177,7 +177,15 @@ fn results_do_not_depend_on_the_thread_count() {
                 .iter()
                 .map(|c| (c.re.to_bits(), c.im.to_bits()))
                 .collect();
-            (s.torsional_rigidity.to_bits(), s.multiplier.to_bits(), coef)
+            // the warping outputs (pair sums in parallel blocks) too
+            let w = s.warping();
+            (
+                s.torsional_rigidity.to_bits(),
+                s.multiplier.to_bits(),
+                coef,
+                w.warping_constant.to_bits(),
+                w.shear_centre.map(f64::to_bits),
+            )
         })
     };
     for (m, lin) in [
