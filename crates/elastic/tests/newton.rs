@@ -106,7 +106,12 @@ fn a_stiff_linear_joint_converges_at_its_round_off_floor() {
 /// Goal: a Newton failure names the increment, the load fractions it went
 /// from and to, every attempt cut back before, and the iterations of the
 /// last attempt with their pass. Forced here by allowing one iteration per
-/// pass on the frictional shrink fit (which needs a few).
+/// pass on the frictional shrink fit (which needs a few). From the unloaded
+/// state this first increment is the same problem at every load fraction
+/// (no cohesion: the joint law is homogeneous in the load), so the halved
+/// attempt fails along the same history and the cut-back stops there,
+/// saying why, instead of halving down to the smallest increment (which on
+/// the vessel with μ = 2 took 18 s for 11 identical failures; now 4 s).
 #[test]
 fn a_failure_names_the_increment_the_fractions_and_the_attempts() {
     let mesh = two_rings(2, 8);
@@ -136,12 +141,15 @@ fn a_failure_names_the_increment_the_fractions_and_the_attempts() {
         panic!("expected NotConverged, got {text}");
     };
     assert_eq!(number, 1);
-    assert_eq!((from, fraction, increment), (0.0, 0.25, 0.25));
-    // 1 and 1/2 were tried and cut back before 1/4 failed
-    assert_eq!(attempts.len(), 2);
+    assert_eq!((from, fraction, increment), (0.0, 0.5, 0.5));
+    // 1 was tried and cut back before 1/2 failed the same way
+    assert_eq!(attempts.len(), 1);
     assert!(attempts[0].starts_with("fraction 0.0000 → 1.0000 (increment 1.000e0)"));
-    assert!(attempts[1].starts_with("fraction 0.0000 → 0.5000 (increment 5.000e-1)"));
     assert!(!history.is_empty() && history.iter().all(|h| h.pass == 1));
-    assert!(text.contains("increment 1 (load fraction 0.0000 → 0.2500"));
+    assert!(text.contains("increment 1 (load fraction 0.0000 → 0.5000"));
+    assert!(
+        text.contains("failed along the same iteration history"),
+        "{text}"
+    );
     assert!(text.contains("\n  pass 1:\n    it  0:"));
 }

@@ -51,6 +51,8 @@ impl StaticSolver<'_> {
         let mut ds = 1.0 / self.options.increments.max(1) as f64;
         let mut cutbacks = Vec::new();
         let mut reports = Vec::new();
+        // the iteration history of the last failed attempt
+        let mut last_failure: Option<Vec<IterationRecord>> = None;
         while s < 1.0 - 1e-14 {
             let s_try = (s + ds).min(1.0);
             let loads = Loads::lerp(&start, target, s_try, n_values);
@@ -75,7 +77,22 @@ impl StaticSolver<'_> {
                 Err(ElasticError::NotConverged {
                     reason, history, ..
                 }) => {
-                    if 0.5 * ds < self.options.min_increment {
+                    // A halved increment that fails along the same history
+                    // (relative residuals, statuses) is the same problem
+                    // scaled: from an unloaded state every joint law without
+                    // cohesion is positively homogeneous in the load, so no
+                    // smaller increment can differ either.
+                    let same_problem = last_failure
+                        .as_ref()
+                        .is_some_and(|prev| same_history(prev, &history));
+                    if 0.5 * ds < self.options.min_increment || same_problem {
+                        let reason = if same_problem {
+                            format!(
+                                "{reason}; the halved increment failed along the same iteration history (the same problem at every load fraction: from an unloaded state the joint laws are homogeneous in the load), so no smaller increment was tried"
+                            )
+                        } else {
+                            reason
+                        };
                         return Err(ElasticError::NotConverged {
                             number: reports.len() + 1,
                             from: s,
@@ -86,6 +103,7 @@ impl StaticSolver<'_> {
                             history,
                         });
                     }
+                    last_failure = Some(history.clone());
                     let tail: Vec<String> = history
                         .iter()
                         .rev()
@@ -283,4 +301,18 @@ fn relax_friction(old: &[PointStates], updated: &mut [PointStates]) {
         }
         *b = PointStates::from_flat(per, flat);
     }
+}
+
+/// Two failed attempts' histories agree: the same passes, statuses and
+/// status changes at every iterate, and relative residuals within 1e-6 of
+/// each other (the residuals are relative to the increment's force scale,
+/// so a scaled problem gives the same numbers up to round-off).
+fn same_history(a: &[IterationRecord], b: &[IterationRecord]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.pass == y.pass
+                && x.status == y.status
+                && x.changed == y.changed
+                && (x.residual - y.residual).abs() <= 1e-6 * x.residual.abs().max(y.residual.abs())
+        })
 }
