@@ -9,7 +9,8 @@
 //! the factor 1/(1 − 2^{−k}), and so bounds the error of the n result with
 //! room to spare. With three rungs (n/4, n/2, n; Daubechies only) the
 //! observed ratio ρ = d_n / d_{n/2} of successive differences, when at most
-//! ¼, scales it: e_n ≈ 2 d_n ρ_e/(1 − ρ_e) with ρ_e = max(ρ, 2^{−(min(2N, p) − 1)})
+//! ¼, scales it: e_n ≈ 2 d_n ρ_e/(1 − ρ_e) with ρ_e = max(ρ, 2^{−min(2N, p)})
+//! for J, the shear centre and Γ, and max(ρ, 2^{−(min(2N, p) − 1)}) for τ_max
 //! (Aitken's estimate with a safety factor 2, never assuming a faster rate
 //! than the graded corners allow, see [`rate_floor`]), and never below
 //! min(d_n, 1e-12) nor N ε (round-off). The ladder starts at n0/4 so that the
@@ -212,20 +213,32 @@ fn diffs<T>(rungs: &[T], f: impl Fn(&T, &T) -> Option<f64>) -> Option<Difference
 }
 
 /// Smallest ratio of successive differences the extrapolated estimate
-/// assumes, for `opts`: 2^−(min(2N, p) − 1) for dbN with grading exponent p.
-/// Measured with db4, p = 8: 2^−9 to 2^−10.5 on the rectangle, triangle and
-/// box, but 2^−7.2 for τ_max of the groove between n = 128 and 256 (a floor
-/// of 2^−8 made that estimate 10 % too small); one order less with p = 6.
-/// None: no extrapolation (Shannon and Nyström keep the plain difference).
+/// assumes for the integral quantities (J, the shear centre, Γ), for
+/// `opts`: 2^−min(2N, p) for dbN with grading exponent p; τ_max, a point
+/// value, gets twice that ([`pointwise_floor`]). None: no extrapolation
+/// (Shannon and Nyström keep the plain difference).
+///
+/// Measured with db4, p = 8 (log₂ of the ratios of successive differences
+/// between n = 128 and 2048 above round-off, on the rectangles 2 × 1 and
+/// 1 × 0.1, the triangle, the hexagon, two grooves, an L, a flat triangle,
+/// two boxes and a channel): J and Γ −8.1 to −15 (the slowest: the
+/// hexagon's Γ at 128–512), τ_max −6.9 to −12.5 (the slowest: the groove
+/// b = 0.3 at 128–512, which a floor of 2^−8 underestimated by 10 %). With
+/// p = 6 every rate is about one order slower.
 pub fn rate_floor(opts: &Options) -> Option<f64> {
     match opts.method {
         Method::Daubechies => {
             // (a grading outside 2..=12 is refused by the solve itself)
             let k = (2.0 * opts.wavelet_order as f64).min(opts.grading.floor()) - 1.0;
-            (k >= 1.0).then(|| 0.5f64.powf(k))
+            (k >= 1.0).then(|| 0.5f64.powf(k + 1.0))
         }
         _ => None,
     }
+}
+
+/// The floor for τ_max: twice [`rate_floor`] (one order slower).
+fn pointwise_floor(integral: Option<f64>) -> Option<f64> {
+    integral.map(|f| 2.0 * f)
 }
 
 /// Largest observed ratio of successive differences for which the
@@ -283,7 +296,7 @@ fn jt_estimates(
     let tau = diffs(values, |a, b| Some(rel(a.1?, b.1?)));
     (
         j.map_or(0.0, |d| estimate(&d, floor, round_off)),
-        tau.map(|d| estimate(&d, floor, round_off)),
+        tau.map(|d| estimate(&d, pointwise_floor(floor), round_off)),
     )
 }
 

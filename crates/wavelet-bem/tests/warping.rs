@@ -16,7 +16,7 @@
 //!                                                              +------
 //! ```
 use std::f64::consts::PI;
-use tecon_wavelet_bem::{Method, Options, sections, solve, solve_to_tolerance};
+use tecon_wavelet_bem::{Method, Options, Section, sections, solve, solve_to_tolerance};
 
 fn opts(method: Method, n: usize) -> Options {
     Options {
@@ -304,6 +304,47 @@ fn against_sectionproperties() {
             assert!(
                 dev <= 3.0 * d + 1e-9 * scale.abs(),
                 "{spec} {key}: ours {v} vs sectionproperties {fine} (its last difference {d:e})"
+            );
+        }
+    }
+}
+
+/// The reported error of Γ (three-rung estimate, floor 2^−8 for db4) bounds
+/// its true error on rectangles (the series) and the thin box (against its
+/// own n = 2048 solution, whose Γ differs from n = 1024 by 2e-15) at
+/// tolerances 1e-6, 1e-8 and 1e-10.
+#[test]
+fn reported_warping_errors_bound_the_true_errors() {
+    let box_section = sections::hollow_rectangle(2.0, 1.0, 0.1, 0.1).unwrap();
+    let box_gamma = solve(&box_section, &opts(Method::Daubechies, 2048))
+        .unwrap()
+        .warping()
+        .warping_constant;
+    let mut cases: Vec<(Section, f64)> = [(1.0, 0.5), (0.5, 0.5), (0.5, 0.05)]
+        .iter()
+        .map(|&(a, b)| {
+            (
+                sections::rectangle(2.0 * a, 2.0 * b).unwrap(),
+                rectangle_gamma(a, b),
+            )
+        })
+        .collect();
+    cases.push((box_section, box_gamma));
+    for (sec, exact) in &cases {
+        let ip = sec.polar_moment();
+        let scale = exact.abs().max(1e-6 * ip * ip / sec.area);
+        for tol in [1e-6, 1e-8, 1e-10] {
+            let c = solve_to_tolerance(sec, &Options::default(), tol, 2048).unwrap();
+            let e = (c.warping.warping_constant - exact).abs() / scale;
+            eprintln!(
+                "{} tol {tol:.0e}: n {} Γ err {e:.1e} est {:.1e} converged {}",
+                sec.name, c.solution.options.n, c.warping_error, c.converged
+            );
+            assert!(
+                e <= c.warping_error,
+                "{} tol {tol:e}: Γ error {e:e} > estimate {:e}",
+                sec.name,
+                c.warping_error
             );
         }
     }
