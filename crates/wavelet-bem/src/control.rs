@@ -215,7 +215,7 @@ fn diffs<T>(rungs: &[T], f: impl Fn(&T, &T) -> Option<f64>) -> Option<Difference
 /// Smallest ratio of successive differences the extrapolated estimate
 /// assumes for the integral quantities (J, the shear centre, Γ), for
 /// `opts`: 2^−min(2N, p) for dbN with grading exponent p; τ_max, a point
-/// value, gets twice that ([`pointwise_floor`]). None: no extrapolation
+/// value, gets twice that. None: no extrapolation
 /// (Shannon and Nyström keep the plain difference).
 ///
 /// Measured with db4, p = 8 (log₂ of the ratios of successive differences
@@ -252,14 +252,14 @@ const EXTRAPOLATE_BELOW: f64 = 0.25;
 /// by a factor ρ per doubling, e_n = d_k ρ/(1 − ρ) (Aitken). We use
 /// ρ_e = max(ρ, floor) and a safety factor 2: e_n ≈ 2 d_k ρ_e/(1 − ρ_e).
 /// Round-off does not shrink with n, so the estimate never goes below
-/// min(d_k, [`ROUND_OFF`]): below that level it is the plain difference.
+/// min(d_k, [`DIFFERENCE_NOISE`]): below that level it is the plain difference.
 /// Every estimate is at least [`round_off`]: the round-off of a dense
 /// solve, which no difference of rungs can see.
 fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
     let e = match (d.before, floor) {
         (Some(before), Some(f)) if before > 0.0 && d.last <= EXTRAPOLATE_BELOW * before => {
             let rho = (d.last / before).max(f);
-            (2.0 * d.last * rho / (1.0 - rho)).max(d.last.min(ROUND_OFF))
+            (2.0 * d.last * rho / (1.0 - rho)).max(d.last.min(DIFFERENCE_NOISE))
         }
         _ => d.last,
     };
@@ -283,7 +283,7 @@ fn round_off(section: &Section, unknowns: usize) -> f64 {
 /// Relative level below which differences between rungs may be round-off
 /// (measured: up to 5e-14 on the 1 × 0.05 ellipse at n = 1024, where the
 /// rungs agree to 1e-14): extrapolated estimates stop there.
-const ROUND_OFF: f64 = 1e-12;
+const DIFFERENCE_NOISE: f64 = 1e-12;
 
 /// Estimated errors of J and τ_max (None when singular) of the finest of
 /// the rungs' (J, τ_max), coarse to fine, at least two.
@@ -390,9 +390,11 @@ pub fn solve_with_estimate(
     Ok(finish(None, coarse, fine, tol, levels, false))
 }
 
-/// Refines from [`starting_n`] (or `opts.n` if larger) by doubling until J and
-/// τ_max at n and n/2 agree to the relative tolerance `tol`, or `n_max` is
-/// reached (then `converged` is false and a warning says so).
+/// Refines from [`starting_n`] / 4 (or `opts.n` if larger) by doubling until,
+/// at n ≥ the starting n, the estimated errors of J, τ_max, the shear
+/// centre and Γ (from the last three rungs, see the module notes) meet the
+/// relative tolerance `tol`, or `n_max` is reached (then `converged` is
+/// false and a warning says so).
 pub fn solve_to_tolerance(
     section: &Section,
     opts: &Options,
