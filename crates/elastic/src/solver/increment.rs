@@ -67,6 +67,8 @@ impl StaticSolver<'_> {
                     self.loads = loads;
                     s = s_try;
                     report.cutbacks = std::mem::take(&mut cutbacks);
+                    // a later failure starts from another state
+                    last_failure = None;
                     // an easy increment lets the next one grow back
                     if report.max_pass_iterations <= 4 && report.cutbacks.is_empty() {
                         ds = (2.0 * ds).min(1.0 / self.options.increments.max(1) as f64);
