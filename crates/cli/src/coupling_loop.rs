@@ -208,7 +208,8 @@ fn max_rel_change(a: &[f64], b: &[f64]) -> f64 {
 /// below −1 (a joint point whose conductance rises steeply with the
 /// pressure its own cooling lowers) alternates between two states for
 /// ever; for a two-cycle r_k = −r_{k−1} this gives ω = ω_{k−1}/2, and for
-/// a scalar affine map with slope g′ the exact 1/(1 − g′) in one step. Only
+/// a scalar affine map with slope g′ < 0 the exact 1/(1 − g′) in one step
+/// (for 0 < g′ < 1 that would exceed 1: the plain step is kept). Only
 /// the path changes: the fixed point, and the settle test on the
 /// unrelaxed change, are those of the plain iteration.
 #[derive(Default)]
