@@ -174,14 +174,10 @@ pub fn assemble(
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut phat);
     let phat_n: Vec<Complex64> = phat.iter().map(|z| z / n as f64).collect();
-    // L Pᵀ row by row as the kernel rows are computed (L is never stored),
-    // transposed to P L (L is symmetric), then P L Pᵀ row by row: peak
-    // memory 2 N² doubles
-    let sines = kernels::log_sines(n);
-    let mut t = vec![0.0; big * big];
-    convolve_rows(&mut t, big, &phat_n, |i, row| {
-        kernels::log_remainder_row(&nodes, n, &sines, i, row)
-    });
+    // L (symmetric, one logarithm per pair), then L Pᵀ row by row,
+    // transposed to P L, then P L Pᵀ row by row: peak memory 2 N² doubles
+    let mut t = kernels::log_remainder_blocks(&nodes, n);
+    convolve_rows(&mut t, big, &phat_n, |_, _| {});
     let mut a = kernels::transpose(&t, big);
     drop(t);
     convolve_rows(&mut a, big, &phat_n, |_, _| {});

@@ -47,14 +47,53 @@ pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
 /// Row-major N×N kernel matrix for K curves of `n` nodes each (N = K n,
 /// curve after curve): within a curve the smooth log remainder L, between
 /// two curves the full (smooth) kernel ln|x − y|.
+///
+/// The matrix is symmetric (swapping the nodes negates x − y exactly, so
+/// both triangles hold the same bits): the upper triangle is computed, one
+/// logarithm per pair, and copied to the lower one.
 pub fn log_remainder_blocks(nodes: &[BPoint], n: usize) -> Vec<f64> {
     let big = nodes.len();
     let mut out = vec![0.0; big * big];
     let sines = log_sines(n);
     out.par_chunks_mut(big)
         .enumerate()
-        .for_each(|(i, row)| log_remainder_row(nodes, n, &sines, i, row));
+        .for_each(|(i, row)| log_remainder_upper_row(nodes, n, &sines, i, row));
+    mirror_upper(&mut out, big);
     out
+}
+
+/// Copies the upper triangle of the row-major n × n matrix `m` to its lower
+/// triangle, tile by tile (no allocation; a copy is exact).
+fn mirror_upper(m: &mut [f64], n: usize) {
+    const B: usize = 64;
+    for i0 in (0..n).step_by(B) {
+        for j0 in (0..=i0).step_by(B) {
+            for i in i0..(i0 + B).min(n) {
+                for j in j0..(j0 + B).min(i) {
+                    m[i * n + j] = m[j * n + i];
+                }
+            }
+        }
+    }
+}
+
+/// Entries j ≥ i of row i of [`log_remainder_blocks`] (`row[..i]` is not
+/// touched).
+fn log_remainder_upper_row(nodes: &[BPoint], n: usize, sines: &[f64], i: usize, row: &mut [f64]) {
+    let xi = &nodes[i];
+    row[i] = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+    // the rest of i's curve: L = ln r − ln|2 sin π(t_i − t_j)|
+    let end = (i / n + 1) * n;
+    for j in i + 1..end {
+        let d = diff(xi, &nodes[j]);
+        let lg = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln();
+        row[j] = lg - sines[j - i];
+    }
+    // later curves: ln r
+    for j in end..row.len() {
+        let d = diff(xi, &nodes[j]);
+        row[j] = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln();
+    }
 }
 
 /// ln|2 sin(πk/n)| for k = 0..n (the k = 0 entry is −∞ and never used).
@@ -62,26 +101,6 @@ pub fn log_sines(n: usize) -> Vec<f64> {
     (0..n)
         .map(|k| (2.0 * (PI * k as f64 / n as f64).sin()).abs().ln())
         .collect()
-}
-
-/// Row i of [`log_remainder_blocks`] written into `row` (length N), with
-/// `sines` from [`log_sines`].
-pub fn log_remainder_row(nodes: &[BPoint], n: usize, sines: &[f64], i: usize, row: &mut [f64]) {
-    let xi = &nodes[i];
-    let bi = i / n;
-    for (j, r) in row.iter_mut().enumerate() {
-        if i == j {
-            *r = (xi.speed() / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
-        } else {
-            let d = diff(xi, &nodes[j]);
-            let lg = 0.5 * (d[0] * d[0] + d[1] * d[1]).max(f64::MIN_POSITIVE).ln();
-            *r = if bi == j / n {
-                lg - sines[i.abs_diff(j)]
-            } else {
-                lg
-            };
-        }
-    }
 }
 
 /// Right-hand side f(t_a) = ((½I + K) g)(x_a) in subtracted form, trapezoidal rule.
@@ -129,4 +148,56 @@ pub fn radius_sq(nodes: &[BPoint], x0: [f64; 2]) -> Vec<f64> {
             (x[0] - x0[0]).powi(2) + (x[1] - x0[1]).powi(2)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `n` nodes t_a = (a + ½)/n on the circle of radius `r` about `c`.
+    fn circle(n: usize, r: f64, c: [f64; 2]) -> Vec<BPoint> {
+        (0..n)
+            .map(|a| {
+                let th = 2.0 * PI * (a as f64 + 0.5) / n as f64;
+                let (s, co) = th.sin_cos();
+                let w = 2.0 * PI * r;
+                BPoint {
+                    anchor: c,
+                    offset: [r * co, r * s],
+                    d1: [-w * s, w * co],
+                    d2: [-2.0 * PI * w * co, -2.0 * PI * w * s],
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_symmetric_fill_equals_the_kernel_entry_by_entry() {
+        let n = 16;
+        let mut nodes = circle(n, 1.0, [0.0, 0.0]);
+        nodes.extend(circle(n, 0.3, [0.1, -0.05]));
+        let big = nodes.len();
+        let l = log_remainder_blocks(&nodes, n);
+        let sines = log_sines(n);
+        for i in 0..big {
+            for j in 0..big {
+                let expected = if i == j {
+                    (nodes[i].speed() / (2.0 * PI)).ln()
+                } else {
+                    let d = diff(&nodes[i], &nodes[j]);
+                    let lg = 0.5 * (d[0] * d[0] + d[1] * d[1]).ln();
+                    if i / n == j / n {
+                        lg - sines[(i % n).abs_diff(j % n)]
+                    } else {
+                        lg
+                    }
+                };
+                assert_eq!(
+                    l[i * big + j].to_bits(),
+                    expected.to_bits(),
+                    "entry ({i}, {j})"
+                );
+            }
+        }
+    }
 }

@@ -48,7 +48,7 @@
 
 use crate::density::FourierDensity;
 use crate::geometry::{PointLocation, Section, V2};
-use crate::grading::{BPoint, diff};
+use crate::grading::BPoint;
 use crate::nystrom::kress_weights;
 use crate::solve::TorsionSolution;
 use rayon::prelude::*;
@@ -193,6 +193,13 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
     let speeds: Vec<f64> = nd.pts.iter().map(|p| p.speed()).collect();
     let qs: Vec<f64> = nd.flux.iter().zip(&speeds).map(|(q, s)| q * s).collect();
     let ws: Vec<f64> = nd.omega.iter().zip(&speeds).map(|(w, s)| w * s).collect();
+    // node data by component (contiguous loops over j)
+    let ax: Vec<f64> = nd.pts.iter().map(|p| p.anchor[0]).collect();
+    let ay: Vec<f64> = nd.pts.iter().map(|p| p.anchor[1]).collect();
+    let ox: Vec<f64> = nd.pts.iter().map(|p| p.offset[0]).collect();
+    let oy: Vec<f64> = nd.pts.iter().map(|p| p.offset[1]).collect();
+    let nxs: Vec<f64> = normals.iter().map(|v| v[0]).collect();
+    let nys: Vec<f64> = normals.iter().map(|v| v[1]).collect();
     // Every kernel depends on the pair through r², ln r and the two normal
     // projections of x_i − x_j, and swapping i and j swaps the projections
     // (d·n_i ↔ −d·n_j): each pair i < j is evaluated once (one logarithm)
@@ -206,36 +213,44 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
         .map(|b| {
             let mut psi = vec![0.0; big];
             let mut chi = vec![0.0; big];
+            // per row: the pairs' difference vectors and ln r
+            let mut dx = vec![0.0; big];
+            let mut dy = vec![0.0; big];
+            let mut lnr = vec![0.0; big];
             for i in b * block..((b + 1) * block).min(big) {
-                let xi = &nd.pts[i];
-                let nx = normals[i];
-                let (ci, ii) = (i / m, i % m);
+                let (nxi, nyi) = (nxs[i], nys[i]);
                 // the diagonal limit: only the double-normal kernel survives
                 let l = (speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
                 let a_dd = -(1.0 - 2.0 * l) * c8;
                 let b_dd = 2.0 * c8;
                 chi[i] -= h * a_dd * ws[i] + r[0] * b_dd * ws[i];
                 let (qi, wi) = (qs[i], ws[i]);
-                let (mut psi_i, mut chi_i) = (0.0, 0.0);
+                // x_i − x_j, exact for a shared anchor (the anchors then
+                // cancel to 0 exactly, as in `diff`)
                 for j in i + 1..big {
+                    dx[j] = (ax[i] - ax[j]) + (ox[i] - ox[j]);
+                    dy[j] = (ay[i] - ay[j]) + (oy[i] - oy[j]);
+                }
+                for j in i + 1..big {
+                    let r2 = dx[j] * dx[j] + dy[j] * dy[j];
+                    lnr[j] = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
+                }
+                let (mut psi_i, mut chi_i) = (0.0, 0.0);
+                // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|, the
+                // nodes after i on its curve), L = ln r across curves
+                let end = (i / m + 1) * m;
+                for j in i + 1..big {
+                    let same = j < end;
                     let (qj, wj) = (qs[j], ws[j]);
-                    let ny = normals[j];
-                    let jj = j % m;
-                    let same = ci == j / m;
-                    let nn = nx[0] * ny[0] + nx[1] * ny[1];
-                    let d = diff(xi, &nd.pts[j]);
-                    let r2 = d[0] * d[0] + d[1] * d[1];
-                    let lnr = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
+                    let (nxj, nyj) = (nxs[j], nys[j]);
+                    let nn = nxi * nxj + nyi * nyj;
+                    let (ex, ey) = (dx[j], dy[j]);
+                    let r2 = ex * ex + ey * ey;
                     // d·n_i and d·n_j (for row j: −d·n_j and −d·n_i)
-                    let dnx = d[0] * nx[0] + d[1] * nx[1];
-                    let dny = d[0] * ny[0] + d[1] * ny[1];
+                    let dnx = ex * nxi + ey * nyi;
+                    let dny = ex * nxj + ey * nyj;
                     let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
-                    // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|), L = ln r across curves
-                    let l = if same {
-                        lnr - sines[ii.abs_diff(jj)]
-                    } else {
-                        lnr
-                    };
+                    let l = if same { lnr[j] - sines[j - i] } else { lnr[j] };
                     // A (smooth part) of the kernels; row j swaps a_dny and a_dnx
                     let a_phi = r2 * (1.0 - l) * c8;
                     let a_dny = -(1.0 - 2.0 * l) * dny * c8;
@@ -246,9 +261,11 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
                     psi[j] += h * (a_phi * qi - a_dnx * wi);
                     chi[j] += h * (a_dny * qi - a_dd * wi);
                     if same {
-                        // B (coefficient of ln|2 sin π(t − s)|), with Kress's weights
-                        let wr_i = r[(ii + m - jj) % m];
-                        let wr_j = r[(jj + m - ii) % m];
+                        // B (coefficient of ln|2 sin π(t − s)|), with Kress's
+                        // weights R((t_i − t_j) mod 1) and R((t_j − t_i) mod 1)
+                        let k = j - i;
+                        let wr_i = r[m - k];
+                        let wr_j = r[k];
                         let b_phi = -r2 * c8;
                         let b_dny = 2.0 * dny * c8;
                         let b_dnx = -2.0 * dnx * c8;
