@@ -368,12 +368,12 @@ pub(crate) fn run_stages(
         match stage.temperature {
             StageTemperature::FollowThermal if thermal_states.is_empty() => {
                 pb.set_message(format!("contact: {}", stage.name));
-                states.push(contact.solve(k, stage, None, pb)?);
+                states.push(contact.solve(k, stage, None, pb, true)?);
             }
             StageTemperature::FollowThermal => {
                 for th in thermal_states {
                     pb.set_message(format!("contact at t = {:.0} s", th.time));
-                    states.push(contact.solve(k, stage, Some(th), pb)?);
+                    states.push(contact.solve(k, stage, Some(th), pb, true)?);
                     pb.inc(1);
                 }
             }
@@ -387,7 +387,7 @@ pub(crate) fn run_stages(
                         heat_balance: s.heat_balance,
                     })
                 });
-                states.push(contact.solve(k, stage, held.as_ref(), pb)?);
+                states.push(contact.solve(k, stage, held.as_ref(), pb, true)?);
             }
         }
     }
@@ -558,13 +558,17 @@ impl<'s> Contact<'s> {
         }
     }
 
-    /// One contact solve from the previous converged state.
+    /// One contact solve from the previous converged state. The stresses
+    /// (recovery and error estimate: an eighth of a two-way run's time when
+    /// made after every solve) are made only `with_stress`; otherwise the
+    /// state's stress field is empty and the state must not be written.
     pub(crate) fn solve(
         &mut self,
         stage_index: usize,
         stage: &Stage,
         th: Option<&ThermalState>,
         pb: &ProgressBar,
+        with_stress: bool,
     ) -> Result<State, DriverError> {
         let delta_t = match (th, &self.reference) {
             (Some(s), Some(r)) => {
@@ -599,7 +603,11 @@ impl<'s> Contact<'s> {
             heat_balance: th.and_then(|s| s.heat_balance),
             displacement: on_mesh_displacement(self.setup, self.solver.displacement()),
             eps_zz: self.solver.eps_zz(),
-            stress: on_mesh_stress(self.setup, self.solver.stresses()),
+            stress: if with_stress {
+                on_mesh_stress(self.setup, self.solver.stresses())
+            } else {
+                StressField::default()
+            },
             interface: self.solver.interface_results(),
             interface_weights: interface_point_weights(&self.setup.model),
             max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
