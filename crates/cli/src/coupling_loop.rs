@@ -542,7 +542,10 @@ pub(crate) fn two_way<'s>(
             max_res = a.balance.relative_residual();
             let mut state = a.state;
             state.coupling_iterations = iterations;
-            debug_assert!(!state.stress.element.is_empty(), "steady state without stresses");
+            debug_assert!(
+                !state.stress.element.is_empty(),
+                "steady state without stresses"
+            );
             states.push(state);
             ThermalInfo {
                 mode: ThermalMode::Steady,
