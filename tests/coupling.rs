@@ -208,6 +208,19 @@ fn vessel_two_way_cools_the_core_under_the_weld() {
     eprintln!("layer outer hoop: one-way {a:.5e}, two-way {b:.5e}");
     assert!((b / a - 1.0).abs() < 0.02);
     assert_eq!(v2["coupling"]["unsettled_blocks"], 0);
+    // the largest count per increment covers every contact solve of the
+    // coupling loop, not only the written ones: it cannot be below the mean
+    let n = &v2["newton"];
+    let (its, incs, max) = (
+        n["iterations"].as_u64().unwrap(),
+        n["increments"].as_u64().unwrap(),
+        n["max_iterations_per_increment"].as_u64().unwrap(),
+    );
+    eprintln!("two-way Newton: {its} iterations in {incs} increments, at most {max} in one");
+    assert!(
+        incs > 0 && max * incs >= its,
+        "max {max} below the mean {its}/{incs}"
+    );
 }
 
 /// Largest nodal temperature difference (K) and largest interface pressure

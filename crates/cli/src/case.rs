@@ -513,6 +513,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
             .map(|r| r.max_iterations)
             .max()
             .unwrap_or(0)
+            .max(outcome.newton.max_per_increment)
     );
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);

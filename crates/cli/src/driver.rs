@@ -247,6 +247,13 @@ pub struct NewtonStats {
     pub iterations: usize,
     /// Converged increments (with cut-backs, more than the output times).
     pub increments: usize,
+    /// Most Newton iterations in one increment, all its passes counted,
+    /// over every contact solve (two-way coupling solves the contact far
+    /// more often than it writes a state).
+    pub max_per_increment: usize,
+    /// Most outer updates (multipliers, friction limits) in one increment,
+    /// over every contact solve.
+    pub max_augmentations: usize,
     /// Tangent factorisations / reused factors / low-rank corrected solves.
     pub solves: tecon_fem::UpdateStats,
 }
@@ -592,6 +599,10 @@ impl<'s> Contact<'s> {
             })?;
         self.newton.iterations += reports.iter().map(|r| r.iterations).sum::<usize>();
         self.newton.increments += reports.len();
+        for r in &reports {
+            self.newton.max_per_increment = self.newton.max_per_increment.max(r.iterations);
+            self.newton.max_augmentations = self.newton.max_augmentations.max(r.augmentations);
+        }
         if self.setup.verbose {
             pb.suspend(|| print_history(time, &reports));
         }
