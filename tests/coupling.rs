@@ -216,10 +216,17 @@ fn vessel_two_way_cools_the_core_under_the_weld() {
         n["increments"].as_u64().unwrap(),
         n["max_iterations_per_increment"].as_u64().unwrap(),
     );
-    eprintln!("two-way Newton: {its} iterations in {incs} increments, at most {max} in one");
+    let written = two.results.iter().map(|r| r.max_iterations).max().unwrap() as u64;
+    eprintln!(
+        "two-way Newton: {its} iterations in {incs} increments, at most {max} in one (written states' solves: at most {written})"
+    );
     assert!(
         incs > 0 && max * incs >= its,
         "max {max} below the mean {its}/{incs}"
+    );
+    assert!(
+        max >= written,
+        "max {max} below a written state's {written}"
     );
 }
 

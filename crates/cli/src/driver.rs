@@ -232,10 +232,10 @@ pub struct State {
     /// Integration weight (arc length, m) of each interface point, parallel
     /// to `interface` ([`interface_point_weights`]).
     pub interface_weights: Vec<f64>,
-    /// Most Newton iterations of any increment, counting all its passes.
+    /// Most Newton iterations of any increment of this state's solve,
+    /// counting all its passes (the run's largest over every solve is
+    /// [`NewtonStats::max_per_increment`]).
     pub max_iterations: usize,
-    /// Most augmented-Lagrangian updates in any increment.
-    pub max_augmentations: usize,
     /// Two-way: coupling iterations of the block that ended here.
     pub coupling_iterations: usize,
 }
@@ -622,7 +622,6 @@ impl<'s> Contact<'s> {
             interface: self.solver.interface_results(),
             interface_weights: interface_point_weights(&self.setup.model),
             max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
-            max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
             coupling_iterations: 0,
         })
     }

@@ -449,7 +449,6 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
                 interface: solver.interface_results(),
                 interface_weights: crate::driver::interface_point_weights(&model),
                 max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
-                max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
                 coupling_iterations: 0,
             });
         }
@@ -501,7 +500,6 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             interface: solver.interface_results(),
             interface_weights: crate::driver::interface_point_weights(&model),
             max_iterations: reports.iter().map(|r| r.iterations).max().unwrap_or(0),
-            max_augmentations: reports.iter().map(|r| r.augmentations).max().unwrap_or(0),
             ..last.state.clone()
         };
         let ring_means = (0..=n)
