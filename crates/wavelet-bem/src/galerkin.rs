@@ -43,6 +43,9 @@ pub struct GalerkinSystem {
     pub curves: usize,
     /// row-major symmetric N×N matrix A
     pub matrix: Vec<f64>,
+    /// an N×N work array left from the assembly (its pages are touched:
+    /// the solve keeps its copy of the matrix there instead of allocating)
+    pub spare: Vec<f64>,
     /// load vector F = P f
     pub load: Vec<f64>,
     /// constraint vector e (∫ φ_{J,k}) of one curve
@@ -100,15 +103,26 @@ fn convolve_pair(
     }
 }
 
-/// Applies [`convolve_pair`] to every pair of rows (2r, 2r + 1) of the
-/// row-major N × N matrix `m` (N even), after `fill(i, row)` has written
-/// row i (a no-op when the rows hold their input already). Pairs are fixed,
-/// so the result does not depend on the number of threads.
-fn convolve_rows(
-    m: &mut [f64],
+/// Rows gathered and convolved per task: 8 doubles fill a cache line, so
+/// a gathered column segment uses every byte it loads.
+const TILE: usize = 8;
+
+/// Writes into the rows of the row-major N × N matrix `dst` the columns of
+/// `src`, cyclically convolved block by block with p (see
+/// [`convolve_pair`]; N even), then applies `finish(i, row)` to each row i
+/// while it is still in cache. Row i of `dst` is gathered from column i of
+/// `src` above row `upper_from(i)` and from row i of `src` from column
+/// `upper_from(i)` on: with `upper_from(i) = i` the rows of a symmetric
+/// matrix of which `src` holds the upper triangle, with `upper_from(i) = N`
+/// the rows of `srcᵀ` (a transpose fused with the convolution). Tiles are
+/// fixed, so the result does not depend on the number of threads.
+fn convolve_gathered(
+    src: &[f64],
+    dst: &mut [f64],
     big: usize,
     phat_n: &[Complex64],
-    fill: impl Fn(usize, &mut [f64]) + Sync,
+    upper_from: impl Fn(usize) -> usize + Sync,
+    finish: impl Fn(usize, &mut [f64]) + Sync,
 ) {
     let n = phat_n.len();
     let mut planner = FftPlanner::<f64>::new();
@@ -118,13 +132,33 @@ fn convolve_rows(
         .get_inplace_scratch_len()
         .max(fft.1.get_inplace_scratch_len());
     let zero = Complex64::new(0.0, 0.0);
-    m.par_chunks_mut(2 * big).enumerate().for_each_init(
+    dst.par_chunks_mut(TILE * big).enumerate().for_each_init(
         || (vec![zero; n], vec![zero; len]),
-        |(buf, scratch), (k, pair)| {
-            let (r0, r1) = pair.split_at_mut(big);
-            fill(2 * k, r0);
-            fill(2 * k + 1, r1);
-            convolve_pair(r0, r1, phat_n, &fft, buf, scratch);
+        |(buf, scratch), (k, tile)| {
+            let i0 = k * TILE;
+            let rows = tile.len() / big;
+            let from: Vec<usize> = (0..rows).map(|r| upper_from(i0 + r).min(big)).collect();
+            let lower = from.iter().copied().max().unwrap_or(0);
+            // column parts: one cache line of src per j for the whole tile
+            for j in 0..lower {
+                let line = &src[j * big + i0..j * big + i0 + rows];
+                for (r, &v) in line.iter().enumerate() {
+                    if j < from[r] {
+                        tile[r * big + j] = v;
+                    }
+                }
+            }
+            // row parts
+            for (r, &f) in from.iter().enumerate() {
+                let i = i0 + r;
+                tile[r * big + f..(r + 1) * big].copy_from_slice(&src[i * big + f..(i + 1) * big]);
+            }
+            for (q, pair) in tile.chunks_mut(2 * big).enumerate() {
+                let (r0, r1) = pair.split_at_mut(big);
+                convolve_pair(r0, r1, phat_n, &fft, buf, scratch);
+                finish(i0 + 2 * q, r0);
+                finish(i0 + 2 * q + 1, r1);
+            }
         },
     );
 }
@@ -174,25 +208,32 @@ pub fn assemble(
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut phat);
     let phat_n: Vec<Complex64> = phat.iter().map(|z| z / n as f64).collect();
-    // L (symmetric, one logarithm per pair), then L Pᵀ row by row,
-    // transposed to P L, then P L Pᵀ row by row: peak memory 2 N² doubles
-    let mut t = kernels::log_remainder_blocks(&nodes, n);
-    convolve_rows(&mut t, big, &phat_n, |_, _| {});
-    let mut a = kernels::transpose(&t, big);
-    drop(t);
-    convolve_rows(&mut a, big, &phat_n, |_, _| {});
+    // L (symmetric, one logarithm per pair: its upper triangle), the rows
+    // of M = L Pᵀ, then the rows of A from the columns of M (P L Pᵀ = P M):
+    // peak memory 2 N² doubles, and the second array is kept for the solve
+    let upper = kernels::log_remainder_upper(&nodes, n);
+    let mut m = crate::memory::dense_zeroed(big * big);
+    convolve_gathered(&upper, &mut m, big, &phat_n, |i| i, |_, _| {});
+    let mut a = upper;
     let c = w.log_circulant(n);
     // A = −(C + P L Pᵀ)/2π (symmetric up to rounding; L is symmetric); C on diagonal blocks
     let s = -1.0 / (2.0 * PI);
-    a.par_chunks_mut(big).enumerate().for_each(|(i, row)| {
-        let (bi, ii) = (i / n, i % n);
-        for (k, v) in row[bi * n..(bi + 1) * n].iter_mut().enumerate() {
-            *v += c[(ii + n - k) % n];
-        }
-        for v in row.iter_mut() {
-            *v *= s;
-        }
-    });
+    convolve_gathered(
+        &m,
+        &mut a,
+        big,
+        &phat_n,
+        |_| big,
+        |i, row| {
+            let (bi, ii) = (i / n, i % n);
+            for (k, v) in row[bi * n..(bi + 1) * n].iter_mut().enumerate() {
+                *v += c[(ii + n - k) % n];
+            }
+            for v in row.iter_mut() {
+                *v *= s;
+            }
+        },
+    );
     let load = convolve_blocks(&f, n, &phat);
     let functional = convolve_blocks(&g2, n, &phat);
     let constraint = vec![1.0 / (n as f64).sqrt(); n];
@@ -200,6 +241,7 @@ pub fn assemble(
         n,
         curves: curves.len(),
         matrix: a,
+        spare: m,
         load,
         constraint,
         functional,
@@ -276,13 +318,21 @@ pub(crate) fn solve(
             // boundaries, LU on boundaries with corners
             let kappa = (4.0 * section.radius()).ln() / (2.0 * PI);
             let mut matrix = std::mem::take(&mut sys.matrix);
+            let mut spare = std::mem::take(&mut sys.spare);
             // graded corners can leave the discrete matrix slightly indefinite: LU there
             let smooth = section
                 .curves()
                 .iter()
                 .all(|c| (0..c.pieces.len()).all(|k| !c.graded(k)));
-            let (x, c) =
-                shifted_saddle_solve(&mut matrix, n, &sys.constraint, &sys.load, kappa, smooth)?;
+            let (x, c) = shifted_saddle_solve(
+                &mut matrix,
+                &mut spare,
+                n,
+                &sys.constraint,
+                &sys.load,
+                kappa,
+                smooth,
+            )?;
             (x, c, None)
         }
         LinearSolver::Compressed { eps, tol } => {

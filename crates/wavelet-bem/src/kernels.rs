@@ -53,12 +53,20 @@ pub fn log_remainder(nodes: &[BPoint]) -> Vec<f64> {
 /// logarithm per pair, and copied to the lower one.
 pub fn log_remainder_blocks(nodes: &[BPoint], n: usize) -> Vec<f64> {
     let big = nodes.len();
-    let mut out = vec![0.0; big * big];
+    let mut out = log_remainder_upper(nodes, n);
+    mirror_upper(&mut out, big);
+    out
+}
+
+/// The upper triangle (j ≥ i) of [`log_remainder_blocks`]; the entries
+/// below the diagonal are 0.
+pub fn log_remainder_upper(nodes: &[BPoint], n: usize) -> Vec<f64> {
+    let big = nodes.len();
+    let mut out = crate::memory::dense_zeroed(big * big);
     let sines = log_sines(n);
     out.par_chunks_mut(big)
         .enumerate()
         .for_each(|(i, row)| log_remainder_upper_row(nodes, n, &sines, i, row));
-    mirror_upper(&mut out, big);
     out
 }
 

@@ -202,9 +202,12 @@ pub fn projected_pcg(
 /// The K multipliers follow from the K × K
 /// Schur complement S = Eᵀ B⁻¹ E: c = S⁻¹ Eᵀ B⁻¹ f, x = B⁻¹ (f − E c).
 ///
-/// `a` (row-major N × N, symmetric) is overwritten. Returns (x, c).
+/// `a` (row-major N × N, symmetric) is overwritten; the copy of B is kept
+/// in `spare` (resized to N × N if it is not: a work array whose pages are
+/// already touched saves the page faults of a fresh one). Returns (x, c).
 pub fn shifted_saddle_solve(
     a: &mut [f64],
+    spare: &mut Vec<f64>,
     n: usize,
     e: &[f64],
     f: &[f64],
@@ -216,13 +219,27 @@ pub fn shifted_saddle_solve(
     let kc = big / n;
     debug_assert_eq!(a.len(), big * big);
     debug_assert_eq!(e.len(), n);
-    a.par_chunks_mut(big).enumerate().for_each(|(i, row)| {
-        let ei = kappa * e[i % n];
-        for (j, v) in row.iter_mut().enumerate() {
-            *v += ei * e[j % n];
-        }
-    });
-    let norm_b = frobenius(a, big);
+    spare.resize(big * big, 0.0);
+    // B = A + κ E Eᵀ, its copy, and the squares of its rows in one pass;
+    // the row sums are added in row order (thread-count independent; the
+    // entries are far from overflow, so the plain sum of squares serves:
+    // faer's scaled norm took 14 % of a box solve)
+    let squares: Vec<f64> = a
+        .par_chunks_mut(big)
+        .zip(spare.par_chunks_mut(big))
+        .enumerate()
+        .map(|(i, (row, copy))| {
+            let ei = kappa * e[i % n];
+            let mut sq = 0.0;
+            for (j, (v, c)) in row.iter_mut().zip(copy.iter_mut()).enumerate() {
+                *v += ei * e[j % n];
+                *c = *v;
+                sq += *v * *v;
+            }
+            sq
+        })
+        .collect();
+    let norm_b = squares.iter().sum::<f64>().sqrt();
     let par = faer::get_global_parallelism();
     // right-hand sides: f, E_0, …, E_{K−1}
     let mut rhs = Mat::<f64>::zeros(big, kc + 1);
@@ -233,14 +250,14 @@ pub fn shifted_saddle_solve(
     // a symmetric row-major matrix is its own column-major storage
     let mut m = faer::MatMut::from_column_major_slice_mut(a, big, big);
     // kept for the backward-error check and the LU fallback
-    let backup = m.to_owned();
+    let backup = faer::MatRef::from_column_major_slice(spare, big, big);
     let factored = if try_cholesky {
         cholesky_solve(m.as_mut(), &rhs, par)
     } else {
         ldlt_solve(m.as_mut(), &rhs, par)
     };
     let y = match factored {
-        Some(y) if backward_error(backup.as_ref(), norm_b, &rhs, &y) <= BACKWARD_ERROR_LIMIT => y,
+        Some(y) if backward_error(backup, norm_b, &rhs, &y) <= BACKWARD_ERROR_LIMIT => y,
         _ => backup.partial_piv_lu().solve(&rhs),
     };
     // (after the K × K solve of the Schur complement, which runs faer too)
@@ -294,19 +311,6 @@ fn backward_error(b: faer::MatRef<'_, f64>, norm_b: f64, f: &Mat<f64>, y: &Mat<f
     let r = f - b * y;
     let e = r.norm_l2() / (norm_b * y.norm_l2()).max(f64::MIN_POSITIVE);
     if e.is_finite() { e } else { f64::INFINITY }
-}
-
-/// Frobenius norm of the row-major `rows` × `rows` matrix `a`: rows summed
-/// in parallel, their sums added in row order (thread-count independent).
-/// The entries of the torsion matrices are far from overflow, so the plain
-/// sum of squares serves (faer's scaled norm took 14 % of a box solve).
-fn frobenius(a: &[f64], rows: usize) -> f64 {
-    use rayon::prelude::*;
-    let sums: Vec<f64> = a
-        .par_chunks(rows)
-        .map(|r| r.iter().map(|v| v * v).sum())
-        .collect();
-    sums.iter().sum::<f64>().sqrt()
 }
 
 /// Cholesky LLᵀ in place (blocked, faer) and the solve of every column of
