@@ -344,3 +344,54 @@ fn nearly_smooth_polygons_are_parametrised_by_arc_length() {
     assert!(!q.nearly_smooth_polygon());
     assert!(q.graded(0));
 }
+
+/// The nearly flat vertices of a 2000-gon are not resolved by its arc-length
+/// parametrisation: the rungs 512 to 2048 agree on J to 1e-13 and on τ_max
+/// to 5e-7 while both are further off. The estimates must cover that (the
+/// floors of `control::flat_vertex_floors`), so the default run is flagged,
+/// and since no n up to the cap can remove the floors, the ladder stops at
+/// the starting n.
+///
+/// References (regular N-gon, circumradius 1): J_N = π/2 (1 − a/N² − b/N⁴)
+/// with a = 13.1915, b = 553.7 fitted to graded solutions of the 100-gon
+/// (n = 4096, J = 1.568715507511597, estimate 2.4e-12) and the 200-gon
+/// (J = 1.570277752735584, estimate 4.6e-9); a = 13.16 from the area
+/// deficit alone. τ_max = cos(π/N)(1 + 0.676 ε), ε = 2/(N − 2), the
+/// elevation at mid-edge over the inscribed circle of the graded 100-gon
+/// (τ_max = 1.0132977, estimate 3.8e-7).
+#[test]
+fn flat_polygon_vertices_are_flagged_with_estimates_that_cover_the_error() {
+    let n_gon = 2000.0f64;
+    let p = sections::regular_polygon(2000, 1.0).unwrap();
+    let c = control::solve_to_tolerance(&p, &Options::default(), 1e-8, 4096).unwrap();
+    assert!(!c.converged);
+    assert_eq!(c.solution.options.n, 2048, "stops at the starting n");
+    assert!(
+        c.warnings
+            .iter()
+            .any(|w| w.contains("nearly flat vertices")),
+        "{:?}",
+        c.warnings
+    );
+    let j_ref = PI / 2.0 * (1.0 - 13.1915 / n_gon.powi(2) - 553.7 / n_gon.powi(4));
+    let j = c.solution.torsional_rigidity;
+    let j_err = (j - j_ref).abs() / j_ref;
+    // the rungs alone said about 1e-13
+    assert!(
+        j_err > 1e-9 && j_err <= c.j_error,
+        "J error {j_err:e}, estimate {:e}",
+        c.j_error
+    );
+    let eps = 2.0 / (n_gon - 2.0);
+    let tau_ref = (PI / n_gon).cos() * (1.0 + 0.676 * eps);
+    let tau = c.max_shear.value.unwrap();
+    let tau_est = c.tau_error.unwrap();
+    let tau_err = (tau - tau_ref).abs() / tau_ref;
+    assert!(
+        tau_err > 1e-4 && tau_err <= tau_est,
+        "τ error {tau_err:e}, estimate {tau_est:e}"
+    );
+    // at a loose tolerance the same section converges
+    let loose = control::solve_to_tolerance(&p, &Options::default(), 1e-2, 4096).unwrap();
+    assert!(loose.converged, "{:?}", loose.warnings);
+}
