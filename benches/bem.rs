@@ -133,8 +133,9 @@ fn bench(c: &mut Criterion) {
 /// sectionproperties comparison sections (box, monosymmetric I, channel of
 /// tests/data/sectionproperties.toml) to 1e-10, and a 2000-vertex polygon
 /// at the default tolerance 1e-8 (goal: under 1 s; it is parametrised by arc
-/// length without grading, J converges, τ_max at 4096 still moves by 5e-6 and
-/// the result is flagged unconverged: the bench measures what it costs).
+/// length without grading, its flat vertices are not resolved, and the result
+/// is flagged with their error floors at n = 2048: the bench measures what
+/// that costs).
 fn bench_sections(c: &mut Criterion) {
     let mut g = c.benchmark_group("bem_sections");
     g.sample_size(10);
