@@ -70,26 +70,43 @@ pub const COLLINEAR_FRACTION: f64 = 1e-12;
 
 /// Drops the vertices of the closed polygon `v` that lie between their
 /// neighbours within `cut` of the line through them (see
-/// [`COLLINEAR_FRACTION`]), keeping at least three; returns how many.
+/// [`COLLINEAR_FRACTION`]); returns how many. One pass with a stack (a run of
+/// such vertices goes in linear time), then the vertices next to the
+/// closing side. A polygon that would keep fewer than three is left as
+/// given (its validation names the degeneracy).
 fn drop_collinear(v: &mut Vec<V2>, cut: f64) -> usize {
+    let on_line = |a: V2, p: V2, b: V2| {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len = dx.hypot(dy);
+        let off = ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() / len;
+        let between = (p[0] - a[0]) * dx + (p[1] - a[1]) * dy > 0.0
+            && (b[0] - p[0]) * dx + (b[1] - p[1]) * dy > 0.0;
+        len > 0.0 && off < cut && between
+    };
     let before = v.len();
-    loop {
-        let m = v.len();
-        let Some(k) = (0..m).find(|&k| {
-            m > 3 && {
-                let (a, p, b) = (v[(k + m - 1) % m], v[k], v[(k + 1) % m]);
-                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-                let len = dx.hypot(dy);
-                let off = ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() / len;
-                let between = (p[0] - a[0]) * dx + (p[1] - a[1]) * dy > 0.0
-                    && (b[0] - p[0]) * dx + (b[1] - p[1]) * dy > 0.0;
-                len > 0.0 && off < cut && between
-            }
-        }) else {
-            return before - v.len();
-        };
-        v.remove(k);
+    let mut out: Vec<V2> = Vec::with_capacity(before);
+    for &p in v.iter() {
+        while out.len() >= 2 && on_line(out[out.len() - 2], out[out.len() - 1], p) {
+            out.pop();
+        }
+        out.push(p);
     }
+    while out.len() > 3 {
+        let m = out.len();
+        if on_line(out[m - 2], out[m - 1], out[0]) {
+            out.pop();
+        } else if on_line(out[m - 1], out[0], out[1]) {
+            out.remove(0);
+        } else {
+            break;
+        }
+    }
+    if out.len() < 3 {
+        // all on one line: left as given, for the validation to name
+        return 0;
+    }
+    *v = out;
+    before - v.len()
 }
 
 /// Polygon through `vertices` (either orientation), one segment per side.

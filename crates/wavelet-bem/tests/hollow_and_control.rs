@@ -263,7 +263,19 @@ fn self_intersection_check_scales_to_many_vertices() {
         })
         .collect();
     let s = sections::polygon(&v).unwrap();
-    assert_eq!(s.pieces.len(), m);
+    // the few vertices at the curve's inflection points that lie on the
+    // line through their neighbours to 1e-12 of the perimeter are dropped,
+    // with a note
+    let dropped = m - s.pieces.len();
+    assert!(dropped < 100, "{dropped} vertices dropped");
+    assert!(
+        dropped == 0
+            || s.notes
+                .iter()
+                .any(|n| n.starts_with(&format!("{dropped} vertices"))),
+        "{:?}",
+        s.notes
+    );
     v[500] = [0.0, -1.5];
     match sections::polygon(&v) {
         Err(e) => assert!(e.to_string().contains("self-intersecting"), "{e}"),
