@@ -147,6 +147,12 @@ impl StaticSolver<'_> {
         // whether they are under-relaxed (see `FRICTION_RELAXATION`)
         let mut friction_changes: Vec<f64> = Vec::new();
         let mut relaxing = false;
+        // the states the last converged pass started from (before its
+        // outer update), and the outer cut-backs taken so far
+        let mut last_start: Option<States> = None;
+        let mut outer_cuts = 0;
+        let frozen_friction =
+            self.options.friction_bound == FrictionBound::Frozen && self.has_friction();
         let mut u = self.u.clone();
         // Newton passes; with the augmented Lagrangian, each pass is followed
         // by a multiplier update until the multipliers settle. `start` is the
@@ -156,6 +162,27 @@ impl StaticSolver<'_> {
             let (u_new, history) = match self.newton(&f_ext, loads, &committed, u.clone(), pass) {
                 Ok(r) => r,
                 // the failed pass comes with the passes before it
+                // A pass after an outer update that fails: the update moved
+                // the friction limits too far for Newton (high friction: a
+                // stick zone appears at once where everything slipped).
+                // The load cannot be cut (from an unloaded state the problem
+                // is the same at every load fraction), the update can: the
+                // limits go halfway back towards those of the last converged
+                // pass, and every later update is under-relaxed. The fixed
+                // point, and so the answer, is the same.
+                Err(ElasticError::NotConverged { history, .. })
+                    if frozen_friction && outer_cuts < MAX_OUTER_CUTS && last_start.is_some() =>
+                {
+                    total_iterations += history.len();
+                    max_pass = max_pass.max(history.len());
+                    passes.push(history);
+                    if let Some(prev) = &last_start {
+                        relax_friction(prev, &mut committed);
+                    }
+                    relaxing = true;
+                    outer_cuts += 1;
+                    continue;
+                }
                 Err(ElasticError::NotConverged {
                     reason, history, ..
                 }) => {
@@ -177,12 +204,12 @@ impl StaticSolver<'_> {
             passes.push(history.clone());
             u = u_new;
             let al = self.options.augmented_lagrangian;
-            let frozen =
-                self.options.friction_bound == FrictionBound::Frozen && self.has_friction();
+            let frozen = frozen_friction;
             if al.is_none() && !frozen {
                 break (committed, history);
             }
             let start = committed.clone();
+            last_start = Some(start.clone());
             // Outer updates from the converged jumps: Uzawa update of the
             // normal multipliers, and the frozen friction limits set to the
             // pressure of this pass.
@@ -280,6 +307,10 @@ const PLAIN_FRICTION_UPDATES: usize = 5;
 /// updates alternate and no longer contract (μ = 1 on the vessel contracts
 /// by ~0.25 per two updates and keeps its plain path; μ = 2 by ~0.87).
 const STAGNATION: f64 = 0.5;
+
+/// Most outer cut-backs in one increment: the last outer update halved
+/// after a failed pass, up to 1/16 of it (see [`StaticSolver::increment`]).
+const MAX_OUTER_CUTS: usize = 4;
 
 /// Under-relaxation factor ω of the frozen friction limits once the plain
 /// updates stagnate (see [`STAGNATION`]): `p_f ← p_f + ω (p − p_f)`. At high friction
