@@ -212,7 +212,7 @@ pub fn assemble(
     // of M = L Pᵀ, then the rows of A from the columns of M (P L Pᵀ = P M):
     // peak memory 2 N² doubles, and the second array is kept for the solve
     let upper = kernels::log_remainder_upper(&nodes, n);
-    let mut m = crate::memory::dense_zeroed(big * big);
+    let mut m = crate::linalg::dense_zeroed(big * big);
     convolve_gathered(&upper, &mut m, big, &phat_n, |i| i, |_, _| {});
     let mut a = upper;
     let c = w.log_circulant(n);

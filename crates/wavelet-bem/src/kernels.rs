@@ -62,7 +62,7 @@ pub fn log_remainder_blocks(nodes: &[BPoint], n: usize) -> Vec<f64> {
 /// below the diagonal are 0.
 pub fn log_remainder_upper(nodes: &[BPoint], n: usize) -> Vec<f64> {
     let big = nodes.len();
-    let mut out = crate::memory::dense_zeroed(big * big);
+    let mut out = crate::linalg::dense_zeroed(big * big);
     let sines = log_sines(n);
     out.par_chunks_mut(big)
         .enumerate()

@@ -98,48 +98,6 @@ pub fn check(method: Method, curves: usize, n: usize) -> Result<(), SolveError> 
     check_with(method, curves, n, available_bytes())
 }
 
-/// A zeroed vector of `len` doubles for a dense matrix, backed by huge pages
-/// where the kernel offers them on request (Linux, transparent huge pages
-/// in `madvise` mode, the common default).
-///
-/// A dense order-2048 matrix is 32 MB: 8192 pages of 4 kB, each a page
-/// fault on first touch and a TLB entry, while the column gathers and the
-/// factorisation stride across all of them. With 2 MB pages the hollow box
-/// of the speed bench (n = 1024 per curve) went from 0.22 s to 0.16 s
-/// (medians of 10, 2 cores). The advice is only a hint: where it is refused
-/// nothing changes but the speed.
-pub(crate) fn dense_zeroed(len: usize) -> Vec<f64> {
-    // calloc: fresh pages are not touched yet, so the advice applies to
-    // their first fault
-    let v = vec![0.0; len];
-    advise_huge_pages(&v);
-    v
-}
-
-#[cfg(target_os = "linux")]
-fn advise_huge_pages(v: &[f64]) {
-    const HUGE: usize = 2 << 20;
-    let start = v.as_ptr() as usize;
-    let end = start + std::mem::size_of_val(v);
-    let first = start.next_multiple_of(HUGE);
-    let last = end - end % HUGE;
-    if last > first {
-        // SAFETY: [first, last) lies inside the allocation of `v`, which
-        // outlives the call; MADV_HUGEPAGE changes how the kernel backs the
-        // pages, never their contents, and its failure is harmless.
-        unsafe {
-            libc::madvise(
-                first as *mut libc::c_void,
-                last - first,
-                libc::MADV_HUGEPAGE,
-            );
-        }
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn advise_huge_pages(_: &[f64]) {}
-
 #[cfg(test)]
 mod tests {
     use super::*;
