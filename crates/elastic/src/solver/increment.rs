@@ -161,7 +161,6 @@ impl StaticSolver<'_> {
             let pass = passes.len() + 1;
             let (u_new, history) = match self.newton(&f_ext, loads, &committed, u.clone(), pass) {
                 Ok(r) => r,
-                // the failed pass comes with the passes before it
                 // A pass after an outer update that fails: the update moved
                 // the friction limits too far for Newton (high friction: a
                 // stick zone appears at once where everything slipped).
@@ -183,6 +182,7 @@ impl StaticSolver<'_> {
                     outer_cuts += 1;
                     continue;
                 }
+                // the failed pass comes with the passes before it
                 Err(ElasticError::NotConverged {
                     reason, history, ..
                 }) => {
@@ -204,8 +204,7 @@ impl StaticSolver<'_> {
             passes.push(history.clone());
             u = u_new;
             let al = self.options.augmented_lagrangian;
-            let frozen = frozen_friction;
-            if al.is_none() && !frozen {
+            if al.is_none() && !frozen_friction {
                 break (committed, history);
             }
             let start = committed.clone();
@@ -234,7 +233,7 @@ impl StaticSolver<'_> {
                         &u,
                         itf.reference.as_deref(),
                         states,
-                        (frozen, al.is_some()),
+                        (frozen_friction, al.is_some()),
                     )
                 } else {
                     update_set(
@@ -244,7 +243,7 @@ impl StaticSolver<'_> {
                         &u,
                         itf.reference.as_deref(),
                         states,
-                        (frozen, al.is_some()),
+                        (frozen_friction, al.is_some()),
                     )
                 };
                 max_friction_change = max_friction_change.max(friction);
@@ -268,7 +267,7 @@ impl StaticSolver<'_> {
             }
             friction_changes.push(max_friction_change);
             let k = friction_changes.len() - 1;
-            if frozen
+            if frozen_friction
                 && k >= PLAIN_FRICTION_UPDATES
                 && friction_changes[k] > STAGNATION * friction_changes[k - 2]
             {
