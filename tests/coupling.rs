@@ -449,3 +449,33 @@ fn unsettled_blocks_are_reported_in_the_notes() {
         "{note}"
     );
 }
+
+/// Two-way coupling with a constant conductance (the vessel's default) has
+/// nothing to couple: the temperatures cannot depend on the contact. The
+/// case runs one-way, bit for bit, and says so in a note.
+#[test]
+fn two_way_with_a_constant_conductance_runs_one_way_with_a_note() {
+    use tecon_cli::vessel::{VesselOptions, analyse, summary};
+    let base = VesselOptions {
+        mesh: tecon_mesh::VesselMeshSpec::paper(),
+        quiet: true,
+        ..Default::default()
+    };
+    let one = analyse(&base).unwrap();
+    let two = analyse(&VesselOptions {
+        two_way: Some(Default::default()),
+        ..base.clone()
+    })
+    .unwrap();
+    let (v1, v2) = (summary(&one), summary(&two));
+    assert_eq!(v2["coupling"]["mode"], "one-way");
+    assert_eq!(v1["final"], v2["final"]);
+    let notes = v2["notes"].as_array().unwrap();
+    assert!(
+        notes.iter().any(|n| n
+            .as_str()
+            .unwrap()
+            .contains("no interface conductance depends on the contact")),
+        "{notes:?}"
+    );
+}

@@ -326,6 +326,10 @@ fn progress(len: u64, show: bool) -> ProgressBar {
     pb
 }
 
+/// Why a two-way case runs one-way when no interface conductance reads the
+/// contact state.
+const CONSTANT_TWO_WAY_NOTE: &str = "two-way coupling asked for, but no interface conductance depends on the contact (constant conductances only): the temperatures do not depend on the contact, so the case was solved one-way (heat conduction first, the contact at the output times); a pressure- or gap-dependent law (`[interface.conductance]` with `law = ...`, or `tecon vessel --conductance contact`) makes the coupling two-way";
+
 /// Runs the analysis: heat conduction, then the stages' contact solves.
 pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     let n_out = match setup.thermal.as_ref().map(|t| &t.procedure) {
@@ -334,8 +338,12 @@ pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     };
     let pb = progress((2 * n_out + setup.stages.len() + 1) as u64, setup.progress);
 
+    let mut notes = Vec::new();
     if let (Coupling::TwoWay(c), Some(th)) = (setup.coupling, &setup.thermal) {
-        return crate::coupling_loop::two_way(setup, th, c, &pb);
+        if !setup.coupled_interfaces.is_empty() {
+            return crate::coupling_loop::two_way(setup, th, c, &pb);
+        }
+        notes.push(CONSTANT_TWO_WAY_NOTE.to_string());
     }
     pb.set_message("heat conduction");
     let clock = std::time::Instant::now();
@@ -354,7 +362,7 @@ pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
         states,
         thermal,
         newton: contact.stats(),
-        notes: contact.solver.notes().to_vec(),
+        notes: [contact.solver.notes(), &notes[..]].concat(),
         thermal_seconds,
         contact_seconds,
         coupling: None,

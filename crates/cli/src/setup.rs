@@ -934,7 +934,16 @@ pub fn prepare<'m>(
         .interface
         .iter()
         .zip(&model_index)
-        .filter_map(|(i, &m)| Some((i.name.clone(), m?)).filter(|_| i.conductance.is_some()))
+        .filter_map(|(i, &m)| {
+            // a constant conductance does not read the contact state
+            let reads_state = i.conductance.as_ref().is_some_and(|h| {
+                matches!(
+                    crate::conductance::parse(f, &i.name, h),
+                    Ok(Conductance::Law(_))
+                )
+            });
+            Some((i.name.clone(), m?)).filter(|_| reads_state)
+        })
         .collect();
     Ok(Prepared {
         setup: Setup {

@@ -385,6 +385,8 @@ pub fn summary(run: &VesselRun) -> Value {
                 .map(|r| r.coupling_iterations)
                 .collect::<Vec<_>>()
         );
+    } else {
+        v["coupling"] = json!({ "mode": "one-way" });
     }
     v["conductance"] = json!(if run.options.contact_conductance {
         "contact"
