@@ -328,7 +328,7 @@ fn progress(len: u64, show: bool) -> ProgressBar {
 
 /// Why a two-way case runs one-way when no interface conductance reads the
 /// contact state.
-const CONSTANT_TWO_WAY_NOTE: &str = "two-way coupling asked for, but no interface conductance depends on the contact (constant conductances only): the temperatures do not depend on the contact, so the case was solved one-way (heat conduction first, the contact at the output times); a pressure- or gap-dependent law (`[interface.conductance]` with `law = ...`, or `tecon vessel --conductance contact`) makes the coupling two-way";
+const CONSTANT_TWO_WAY_NOTE: &str = "two-way coupling asked for, but no interface conductance depends on the contact (constant conductances only, without radiation): the temperatures do not depend on the contact, so the case was solved one-way (heat conduction first, the contact at the output times); a pressure- or gap-dependent law (`[interface.conductance]` with `law = ...`, or `tecon vessel --conductance contact`) makes the coupling two-way";
 
 /// Runs the analysis: heat conduction, then the stages' contact solves.
 pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {

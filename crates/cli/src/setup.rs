@@ -935,11 +935,12 @@ pub fn prepare<'m>(
         .iter()
         .zip(&model_index)
         .filter_map(|(i, &m)| {
-            // a constant conductance does not read the contact state
+            // a constant conductance reads no state (radiation reads the
+            // face temperatures, which only the two-way loop hands it)
             let reads_state = i.conductance.as_ref().is_some_and(|h| {
                 matches!(
                     crate::conductance::parse(f, &i.name, h),
-                    Ok(Conductance::Law(_))
+                    Ok(Conductance::Law(l)) if l.depends_on_contact() || l.radiation.is_some()
                 )
             });
             Some((i.name.clone(), m?)).filter(|_| reads_state)
