@@ -299,6 +299,21 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             let s_open = self.tan_phi * committed.friction_pressure.max(0.0);
             if self.bound == FrictionBound::Frozen && s_open > 0.0 {
                 let (tau, k_t, slip) = self.tresca(jump.x, committed.slip, s_open);
+                // sliding on the limit: the same tangent as a closed
+                // slipping point (the stick one at the kink, the secant one
+                // when the solver damps an oscillating point)
+                let k_t = if k_t == 0.0 {
+                    let trial = (self.k_s * (jump.x - committed.slip)).abs();
+                    if trial - s_open <= KINK_TOLERANCE * s_open {
+                        self.k_s
+                    } else if committed.secant_slip {
+                        self.k_s * s_open / trial
+                    } else {
+                        0.0
+                    }
+                } else {
+                    k_t
+                };
                 return LawResponse {
                     traction: Vector2::new(tau, nr.sigma),
                     tangent: Matrix2::new(k_t, 0.0, 0.0, k_n),

@@ -705,6 +705,43 @@ fn secant_slip_changes_only_the_tangent_of_a_slipping_frozen_point() {
     assert_eq!(stick.tangent[(0, 0)], frozen.k_s());
 }
 
+/// An open point sliding on its frozen limit takes the tangents of a closed
+/// slipping one: the stick stiffness k_s within round-off of the kink, the
+/// secant k_s s/|τ_trial| when the solver damps it, 0 otherwise; the
+/// traction and the slip never change.
+#[test]
+fn an_open_point_sliding_on_a_frozen_limit_takes_the_slip_tangents() {
+    let frozen = friction_law(0.1e6, 30.0).with_friction_bound(FrictionBound::Frozen);
+    let st = JointState {
+        friction_pressure: 2.0e6,
+        ..Default::default()
+    };
+    let s_open = 2.0e6 * 30.0_f64.to_radians().tan();
+    let k_s = frozen.k_s();
+    // opening 1 µm, sliding 3 × the elastic shear reach
+    let jump = Vector2::new(3.0 * s_open / k_s, 1e-6);
+    let exact = frozen.evaluate(&jump, &st);
+    assert_eq!(exact.status, ContactStatus::Open);
+    assert_relative_eq!(exact.traction.x, s_open, max_relative = 1e-14);
+    assert_eq!(exact.tangent[(0, 0)], 0.0);
+    let damped = frozen.evaluate(
+        &jump,
+        &JointState {
+            secant_slip: true,
+            ..st
+        },
+    );
+    assert_eq!(
+        (damped.traction, damped.state.slip),
+        (exact.traction, exact.state.slip)
+    );
+    assert_relative_eq!(damped.tangent[(0, 0)], k_s / 3.0, max_relative = 1e-12);
+    // on the limit to round-off: the stick side of the kink
+    let at_kink = frozen.evaluate(&Vector2::new(s_open / k_s * (1.0 + 1e-9), 1e-6), &st);
+    assert_eq!(at_kink.tangent[(0, 0)], k_s);
+    assert_relative_eq!(at_kink.traction.x, s_open, max_relative = 1e-14);
+}
+
 /// Frozen limit, stored pressure p_f > 0: the friction part p_f tan φ of
 /// the limit stays on while the faces open (not the cohesion), so the shear
 /// traction is continuous across the opening; the open point's tangent

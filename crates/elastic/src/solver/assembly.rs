@@ -601,11 +601,23 @@ impl StaticSolver<'_> {
     pub(super) fn statuses(&self, u: &[f64], committed: &[PointStates]) -> Vec<(PointStatus, f64)> {
         self.point_outputs(u, committed)
             .iter()
-            .flatten()
-            .map(|p| {
-                let backward = p.status == ContactStatus::Slip && p.traction.x < 0.0;
+            .zip(committed)
+            .flat_map(|(points, old)| points.iter().zip(old.as_slice()))
+            .map(|(p, c)| {
+                let sliding = match p.status {
+                    ContactStatus::Slip => true,
+                    // an open point under a frozen friction limit that slides
+                    // on it (free sliding carries no traction)
+                    ContactStatus::Open => p.traction.x != 0.0 && p.state.slip != c.slip,
+                    ContactStatus::Stick => false,
+                };
+                let direction = match (sliding, p.traction.x < 0.0) {
+                    (false, _) => 0,
+                    (true, true) => -1,
+                    (true, false) => 1,
+                };
                 (
-                    (p.status, backward),
+                    (p.status, direction),
                     p.traction.x.abs() + p.traction.y.abs(),
                 )
             })

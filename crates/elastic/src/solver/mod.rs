@@ -580,10 +580,13 @@ const STATUS_TRACTION_FLOOR: f64 = 1e-6;
 /// machine, ±20 %); 32 on the 99 144-triangle mesh gives 40.7 s.
 const MAX_UPDATE_RANK: usize = 32;
 
-/// Status of an interface point and, when it slips, whether it slips
-/// backwards (negative shear traction): a reversal of the slip direction
-/// changes the tangent as much as a change of status.
-type PointStatus = (ContactStatus, bool);
+/// Status of an interface point and its sliding direction: 0 when it does
+/// not slide on a friction limit, +1 or −1 (the sign of the shear traction)
+/// when it does — a slipping point, or an open one that slides on its
+/// frozen friction limit (see `MohrCoulomb`'s open branch). A reversal of
+/// the direction, or an open point that starts or stops sliding, changes
+/// the tangent as much as a change of status.
+type PointStatus = (ContactStatus, i8);
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()

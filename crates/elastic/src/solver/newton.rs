@@ -95,10 +95,7 @@ impl StaticSolver<'_> {
                 damped.resize(status.len(), false);
                 for (i, s) in status.iter().enumerate() {
                     let was = p[i].0;
-                    if *s == p2[i]
-                        && *s != was
-                        && (s.0 == ContactStatus::Slip || was.0 == ContactStatus::Slip)
-                    {
+                    if *s == p2[i] && *s != was && (s.1 != 0 || was.1 != 0) {
                         damped[i] = true;
                     }
                 }
