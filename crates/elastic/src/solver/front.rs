@@ -163,8 +163,8 @@ mod tests {
         let adj = element_neighbours(&nodes);
         assert_eq!(adj[0], vec![1]);
         assert_eq!(adj[4], vec![3, 5]);
-        let closed = (ContactStatus::Slip, false);
-        let open = (ContactStatus::Open, false);
+        let closed = (ContactStatus::Slip, 1);
+        let open = (ContactStatus::Open, 0);
         // points: 2 per element; elements 0, 1 open before, element 2 opened now
         let mut before = vec![closed; 20];
         before[..4].fill(open);
