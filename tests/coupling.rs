@@ -157,15 +157,19 @@ fn conductance_and_coupling_errors_are_named() {
     );
 }
 
-/// The published vessel on the paper mesh with the contact conductance:
-/// two-way, the lift-off under the weld lowers the core-side temperature
-/// at θ = 0 early on; the final prestress hardly changes.
-#[test]
-fn vessel_two_way_cools_the_core_under_the_weld() {
-    use tecon_cli::vessel::{VesselOptions, analyse, summary};
+/// The published vessel on the paper mesh (with the contact conductance or
+/// the constant one), one-way and two-way: the options and both runs.
+fn paper_vessel_both_ways(
+    contact_conductance: bool,
+) -> (
+    tecon_cli::vessel::VesselOptions,
+    tecon_cli::vessel::VesselRun,
+    tecon_cli::vessel::VesselRun,
+) {
+    use tecon_cli::vessel::{VesselOptions, analyse};
     let base = VesselOptions {
         mesh: tecon_mesh::VesselMeshSpec::paper(),
-        contact_conductance: true,
+        contact_conductance,
         quiet: true,
         ..Default::default()
     };
@@ -175,6 +179,16 @@ fn vessel_two_way_cools_the_core_under_the_weld() {
         ..base.clone()
     })
     .unwrap();
+    (base, one, two)
+}
+
+/// The published vessel on the paper mesh with the contact conductance:
+/// two-way, the lift-off under the weld lowers the core-side temperature
+/// at θ = 0 early on; the final prestress hardly changes.
+#[test]
+fn vessel_two_way_cools_the_core_under_the_weld() {
+    use tecon_cli::vessel::summary;
+    let (base, one, two) = paper_vessel_both_ways(true);
     // core node on the joint at θ = 0
     let rc = base.geometry.interface_radius();
     let core = one.mesh.node_bodies()[0];
@@ -455,18 +469,8 @@ fn unsettled_blocks_are_reported_in_the_notes() {
 /// case runs one-way, bit for bit, and says so in a note.
 #[test]
 fn two_way_with_a_constant_conductance_runs_one_way_with_a_note() {
-    use tecon_cli::vessel::{VesselOptions, analyse, summary};
-    let base = VesselOptions {
-        mesh: tecon_mesh::VesselMeshSpec::paper(),
-        quiet: true,
-        ..Default::default()
-    };
-    let one = analyse(&base).unwrap();
-    let two = analyse(&VesselOptions {
-        two_way: Some(Default::default()),
-        ..base.clone()
-    })
-    .unwrap();
+    use tecon_cli::vessel::summary;
+    let (_, one, two) = paper_vessel_both_ways(false);
     let (v1, v2) = (summary(&one), summary(&two));
     assert_eq!(v2["coupling"]["mode"], "one-way");
     assert_eq!(v1["final"], v2["final"]);
