@@ -405,3 +405,31 @@ fn mu_2_converges_on_the_default_mesh() {
     );
     assert!(((p - 35257.7) / 35257.7).abs() < 1e-4, "p = {p}");
 }
+
+/// μ = 2 on `t1e5` (99 144 linear triangles) stopped in the first
+/// increment, pass 12, with short line-search steps and no status change:
+/// open points near the opening front that slide on their frozen friction
+/// limit crossed their stick/slip kinks unseen. Their status now records
+/// it. Measured: 1 661 Newton iterations, at most 459 per increment, about
+/// 330 s (release), p = 35 256.75 Pa (μ = 0.3: 35 256.32, μ = 1:
+/// 35 256.82). Too slow for CI: `cargo test --release --test vessel --
+/// --ignored mu_2_converges_on_t1e5`.
+#[test]
+#[ignore]
+fn mu_2_converges_on_t1e5() {
+    let o = VesselOptions {
+        mesh: VesselMeshSpec::with_triangles(100_000).unwrap(),
+        friction: 2.0,
+        quiet: true,
+        ..Default::default()
+    };
+    let run = analyse(&o).expect("μ = 2 converges on t1e5");
+    let v = summary(&run);
+    let p = f(&v, "/final/contact_pressure_mean");
+    eprintln!(
+        "μ = 2, t1e5: {} Newton iterations, at most {} per increment; p = {p:.6e} Pa",
+        f(&v, "/newton/iterations"),
+        f(&v, "/newton/max_iterations_per_increment"),
+    );
+    assert!(((p - 35256.75) / 35256.75).abs() < 1e-4, "p = {p}");
+}
