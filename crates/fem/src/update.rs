@@ -115,8 +115,15 @@ impl UpdatedCholesky {
         let (ptr, idx) = (p.indptr(), p.indices());
         let v = matrix.values();
         let mut rows = Vec::new();
+        // a branch-free bitwise pass per row (it vectorises); only a row
+        // whose bits differ is compared as values (±0)
         for i in 0..p.n() {
-            if (ptr[i]..ptr[i + 1]).any(|k| v[k] != base[k]) {
+            let (a, b) = (ptr[i], ptr[i + 1]);
+            let bits = v[a..b]
+                .iter()
+                .zip(&base[a..b])
+                .fold(0u64, |acc, (x, y)| acc | (x.to_bits() ^ y.to_bits()));
+            if bits != 0 && (a..b).any(|k| v[k] != base[k]) {
                 rows.push(i);
             }
         }
