@@ -86,6 +86,19 @@ impl UpdatedCholesky {
     /// Solves `matrix · x = rhs` in place (rhs ← x). `matrix` must be
     /// symmetric positive definite with the analysed pattern.
     pub fn solve(&mut self, matrix: &CsrMatrix, rhs: &mut [f64]) -> Result<SolveKind, FemError> {
+        self.solve_within(matrix, rhs, 0.0)
+    }
+
+    /// [`UpdatedCholesky::solve`], where a corrected solution is refined
+    /// only until its residual ‖matrix · x − rhs‖ is at most the larger of
+    /// `accept` (absolute) and the default 1e-10 ‖rhs‖: a Newton step need
+    /// not be more exact than its own convergence test can see.
+    pub fn solve_within(
+        &mut self,
+        matrix: &CsrMatrix,
+        rhs: &mut [f64],
+        accept: f64,
+    ) -> Result<SolveKind, FemError> {
         if let Some(changed) = self.changed_dofs(matrix) {
             if changed.is_empty() {
                 self.cholesky.solve(rhs)?;
@@ -93,7 +106,9 @@ impl UpdatedCholesky {
                 return Ok(SolveKind::Reused);
             }
             let b = rhs.to_vec();
-            if changed.len() <= self.max_rank && self.refined_solve(matrix, &changed, rhs, &b)? {
+            if changed.len() <= self.max_rank
+                && self.refined_solve(matrix, &changed, rhs, &b, accept)?
+            {
                 self.stats.corrected += 1;
                 return Ok(SolveKind::Corrected(changed.len()));
             }
@@ -141,18 +156,19 @@ impl UpdatedCholesky {
     /// Woodbury solve with up to [`REFINEMENTS`] rounds of iterative
     /// refinement against `matrix` (the correction loses digits when a
     /// stiff penalty spring is removed or added); true if the residual
-    /// reached the tolerance.
+    /// reached the tolerance (or `accept`, absolute, if larger).
     fn refined_solve(
         &mut self,
         matrix: &CsrMatrix,
         changed: &[usize],
         rhs: &mut [f64],
         b: &[f64],
+        accept: f64,
     ) -> Result<bool, FemError> {
         if !self.corrected_solve(matrix, changed, rhs)? {
             return Ok(false);
         }
-        let target = self.tolerance * norm(b).max(f64::MIN_POSITIVE);
+        let target = (self.tolerance * norm(b).max(f64::MIN_POSITIVE)).max(accept);
         for _ in 0..REFINEMENTS {
             let mut r = vec![0.0; b.len()];
             matrix.mul_vec(rhs, &mut r);

@@ -63,6 +63,7 @@ impl StaticSolver<'_> {
             // problem would otherwise iterate forever at it.
             let floor = round_off_floor(&kt, &u, f_ext) / reference;
             let tolerance = opts.residual_tolerance.max(floor);
+            self.linear_accept = LINEAR_SHARE * tolerance * reference;
             // A status change counts only where the point carries traction
             // before or after it: points at zero load (e.g. far from a local
             // thermal load) flip between touching and open at round-off level.
