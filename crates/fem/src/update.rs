@@ -344,6 +344,31 @@ mod tests {
     }
 
     #[test]
+    fn a_corrected_solve_meets_the_residual_it_is_given() {
+        let n = 200;
+        let a = tridiagonal(n);
+        let b: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64) - 5.0).collect();
+        let bn = norm(&b);
+        let mut a2 = a.clone();
+        for (i, j, d) in [(50, 50, 1e8), (51, 51, 1e8), (50, 51, -1e8), (51, 50, -1e8)] {
+            let v = a2.get(i, j);
+            set(&mut a2, i, j, v + d);
+        }
+        for accept in [0.0, 1e-6 * bn, 1e-2 * bn] {
+            let mut s = UpdatedCholesky::analyse(a.pattern().clone(), 8).unwrap();
+            let mut x = b.clone();
+            s.solve(&a, &mut x).unwrap();
+            let mut x = b.clone();
+            assert_eq!(
+                s.solve_within(&a2, &mut x, accept).unwrap(),
+                SolveKind::Corrected(2)
+            );
+            let r = residual_norm(&a2, &x, &b);
+            assert!(r <= (1e-10 * bn).max(accept), "accept {accept:e}: {r:e}");
+        }
+    }
+
+    #[test]
     fn a_non_symmetric_change_is_factorised() {
         let a = tridiagonal(20);
         let b = vec![1.0; 20];
