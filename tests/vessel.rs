@@ -410,8 +410,8 @@ fn mu_2_converges_on_the_default_mesh() {
 /// increment, pass 12, with short line-search steps and no status change:
 /// open points near the opening front that slide on their frozen friction
 /// limit crossed their stick/slip kinks unseen. Their status now records
-/// it. Measured: 1 661 Newton iterations, at most 459 per increment, about
-/// 330 s (release), p = 35 256.75 Pa (μ = 0.3: 35 256.32, μ = 1:
+/// it. Measured: 1 822 Newton iterations, at most 530 per increment, about
+/// 280 s (release), p = 35 256.75 Pa (μ = 0.3: 35 256.32, μ = 1:
 /// 35 256.82). Too slow for CI: `cargo test --release --test vessel --
 /// --ignored mu_2_converges_on_t1e5`.
 #[test]
