@@ -92,9 +92,6 @@ pub struct StaticSolver<'a> {
     loads: Loads,
     notes: Vec<String>,
     points: Vec<InterfacePointResult>,
-    /// Residual norm (force) a low-rank corrected linear solve may leave:
-    /// [`LINEAR_SHARE`] of the Newton tolerance, set by each iteration.
-    linear_accept: f64,
 }
 
 /// Share of the Newton residual tolerance that a corrected linear solve may
@@ -244,7 +241,6 @@ impl<'a> StaticSolver<'a> {
             loads: Loads::zero(),
             notes: Vec::new(),
             points: Vec::new(),
-            linear_accept: 0.0,
         })
     }
 
@@ -407,11 +403,14 @@ impl<'a> StaticSolver<'a> {
         }
     }
 
+    /// Solves `kt · x = rhs` in place; a low-rank corrected Cholesky solve
+    /// may leave a residual (force) of `accept` (see [`LINEAR_SHARE`]).
     fn solve(
         &mut self,
         kt: &CsrMatrix,
         rhs: &mut [f64],
         symmetric: bool,
+        accept: f64,
     ) -> Result<(), ElasticError> {
         // symbolic analyses are made once, on first use of each kind
         if symmetric {
@@ -425,7 +424,7 @@ impl<'a> StaticSolver<'a> {
             // a tangent that differs from the factorised one only where a
             // few interface points changed branch is solved by a low-rank
             // correction of the old factor
-            if let Err(e) = c.solve_within(kt, rhs, self.linear_accept) {
+            if let Err(e) = c.solve_within(kt, rhs, accept) {
                 // a tangent that lost positive definiteness mid-solve (an
                 // interface that opened or slipped everywhere can leave a
                 // body held by nothing): name the free body if there is one

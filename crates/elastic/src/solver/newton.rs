@@ -63,7 +63,8 @@ impl StaticSolver<'_> {
             // problem would otherwise iterate forever at it.
             let floor = round_off_floor(&kt, &u, f_ext) / reference;
             let tolerance = opts.residual_tolerance.max(floor);
-            self.linear_accept = LINEAR_SHARE * tolerance * reference;
+            // a corrected linear solve need not beat the convergence test
+            let accept = LINEAR_SHARE * tolerance * reference;
             // A status change counts only where the point carries traction
             // before or after it: points at zero load (e.g. far from a local
             // thermal load) flip between touching and open at round-off level.
@@ -172,7 +173,7 @@ impl StaticSolver<'_> {
             let trial = if predicted.is_empty() {
                 None
             } else {
-                self.predicted_step(f_ext, committed, &u, &r, &predicted)?
+                self.predicted_step(f_ext, committed, &u, &r, &predicted, accept)?
             };
             let (du, du_rotated, known_step) = match trial {
                 Some((du, du_rotated, step, all_open)) => {
@@ -204,7 +205,7 @@ impl StaticSolver<'_> {
                             break;
                         }
                     }
-                    match self.solve(&kt, &mut du, symmetric) {
+                    match self.solve(&kt, &mut du, symmetric, accept) {
                         Err(ElasticError::Fem(FemError::Unconstrained { .. }))
                             if symmetric && self.has_friction() =>
                         {
@@ -224,7 +225,7 @@ impl StaticSolver<'_> {
                             self.rotations.rotate_matrix(&mut ks);
                             du.clone_from(&r);
                             self.prepared.apply_scaled(&mut ks, &mut du, 0.0);
-                            self.solve(&ks, &mut du, true)?;
+                            self.solve(&ks, &mut du, true, accept)?;
                         }
                         other => other?,
                     }
@@ -317,7 +318,7 @@ pub(super) fn failure(reason: impl Into<String>, history: Vec<IterationRecord>) 
 impl StaticSolver<'_> {
     /// The Newton step from `u` on the branch where the flat points
     /// `predicted` are open (see `front`), if it is a descent direction of
-    /// the exact energy (`r` is the exact residual at `u`, rotated frame)
+    /// the exact energy (`r` is the exact residual at `u`, rotated frame; `accept` as for [`StaticSolver::solve`])
     /// whose exact line-search step is at least [`KEEP_PREDICTED_STEP`]:
     /// `(du, du_rotated, step, every predicted point open at u + step du)`;
     /// `None` otherwise.
@@ -329,6 +330,7 @@ impl StaticSolver<'_> {
         u: &[f64],
         r: &[f64],
         predicted: &[usize],
+        accept: f64,
     ) -> Result<Option<(Vec<f64>, Vec<f64>, f64, bool)>, ElasticError> {
         let forced = self.forced_open(committed, predicted);
         let (kt, f_int) = self.tangent_and_force(u, &forced, true)?;
@@ -336,7 +338,7 @@ impl StaticSolver<'_> {
         self.rotations.rotate_matrix(&mut kt);
         let mut du = self.residual(f_ext, &f_int);
         self.prepared.apply_scaled(&mut kt, &mut du, 0.0);
-        if self.solve(&kt, &mut du, true).is_err() {
+        if self.solve(&kt, &mut du, true, accept).is_err() {
             // e.g. a body left without support: start the factor afresh
             self.cholesky = None;
             return Ok(None);
