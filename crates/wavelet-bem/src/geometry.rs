@@ -686,7 +686,10 @@ impl Section {
             sec.area * sec.centroid[0],
             sec.area * sec.centroid[1],
         );
-        for h in holes {
+        for (k, h) in holes.into_iter().enumerate() {
+            // a hole's notes (merged or dropped vertices) name it
+            sec.notes
+                .extend(h.notes.iter().map(|n| format!("hole {}: {n}", k + 1)));
             a -= h.area;
             mx -= h.area * h.centroid[0];
             my -= h.area * h.centroid[1];

@@ -125,15 +125,24 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
     let cut = MERGE_FRACTION * perimeter;
     let mut kept: Vec<(usize, V2)> = Vec::with_capacity(m0);
     let mut notes = Vec::new();
+    // a repeated vertex (a side of length 0) is merged too: outlines
+    // exported from CAD or GIS tools often repeat the first vertex at the end
+    let merged = |j: usize, k: usize, d: f64| {
+        if d == 0.0 {
+            format!("vertex {} repeats vertex {}: merged", k + 1, j + 1)
+        } else {
+            format!(
+                "vertices {} and {} are {d:.1e} apart (< {MERGE_FRACTION:.0e} of the perimeter): merged",
+                j + 1,
+                k + 1
+            )
+        }
+    };
     for (k, &v) in vertices.iter().enumerate() {
         if let Some(&(j, last)) = kept.last() {
             let d = dist(last, v);
-            if d > 0.0 && d < cut {
-                notes.push(format!(
-                    "vertices {} and {} are {d:.1e} apart (< {MERGE_FRACTION:.0e} of the perimeter): merged",
-                    j + 1,
-                    k + 1
-                ));
+            if d < cut {
+                notes.push(merged(j, k, d));
                 continue;
             }
         }
@@ -142,12 +151,8 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
     while kept.len() > 3 {
         let (j, last) = kept[kept.len() - 1];
         let d = dist(last, kept[0].1);
-        if d > 0.0 && d < cut {
-            notes.push(format!(
-                "vertices {} and {} are {d:.1e} apart (< {MERGE_FRACTION:.0e} of the perimeter): merged",
-                j + 1,
-                kept[0].0 + 1
-            ));
+        if d < cut {
+            notes.push(merged(kept[0].0, j, d));
             kept.pop();
         } else {
             break;

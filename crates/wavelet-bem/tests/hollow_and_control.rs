@@ -219,6 +219,38 @@ fn near_duplicate_vertices_are_merged_and_noted() {
     let c = solve_to_tolerance(&s, &Options::default(), 1e-8, 2048).unwrap();
     let t = c.max_shear.value.unwrap();
     assert!(rel(t, 0.675314483313568) < 1e-7, "τ {t}");
+    // a closed outline that repeats its first vertex at the end (as CAD and
+    // GIS exports do) is the polygon itself, outer boundary and hole alike,
+    // with a note naming the vertex
+    let square = parse_spec("polygon:0,0;1,0;1,1;0,1").unwrap();
+    let closed = parse_spec("polygon:0,0;1,0;1,1;0,1;0,0").unwrap();
+    assert_eq!(closed.pieces.len(), 4);
+    assert!(
+        closed
+            .notes
+            .iter()
+            .any(|n| n.contains("vertex 5 repeats vertex 1")),
+        "{:?}",
+        closed.notes
+    );
+    assert_eq!(square.area, closed.area);
+    let text = r#"
+name = "closed outlines"
+vertices = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0], [0.0, 0.0]]
+[[hole]]
+vertices = [[0.1, 0.1], [1.9, 0.1], [1.9, 0.9], [0.1, 0.9], [0.1, 0.1]]
+"#;
+    let boxed = parse_section_toml(text, "closed.toml").unwrap();
+    assert_eq!(boxed.pieces.len(), 4);
+    assert_eq!(boxed.holes[0].pieces.len(), 4);
+    assert!(
+        boxed
+            .notes
+            .iter()
+            .any(|n| n.starts_with("hole 1: vertex 5 repeats vertex 1")),
+        "{:?}",
+        boxed.notes
+    );
 }
 
 #[test]
