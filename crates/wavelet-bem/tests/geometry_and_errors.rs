@@ -104,11 +104,31 @@ fn invalid_geometry_gives_typed_errors() {
     // self-intersecting bow tie
     let e = sections::polygon(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]).unwrap_err();
     assert!(matches!(e, GeometryError::SelfIntersecting { .. }), "{e:?}");
-    // degenerate piece (repeated vertex)
-    let e = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap_err();
+    // degenerate piece (a segment of length 0)
+    let seg = |a: [f64; 2], b: [f64; 2]| Piece::Segment { a, b };
+    let e = Section::new(
+        "zero-length side",
+        vec![
+            seg([0.0, 0.0], [1.0, 0.0]),
+            seg([1.0, 0.0], [1.0, 0.0]),
+            seg([1.0, 0.0], [0.0, 1.0]),
+            seg([0.0, 1.0], [0.0, 0.0]),
+        ],
+    )
+    .unwrap_err();
     assert!(
         matches!(e, GeometryError::Degenerate { piece: 1, .. }),
         "{e:?}"
+    );
+    // a repeated polygon vertex is merged (with a note), not a degenerate side
+    let s = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+    assert_eq!(s.pieces.len(), 3);
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("vertex 3 repeats vertex 2")),
+        "{:?}",
+        s.notes
     );
     // collinear: zero area
     let e = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]).unwrap_err();
