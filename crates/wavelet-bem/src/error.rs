@@ -77,6 +77,19 @@ pub enum GeometryError {
     /// Too few polygon vertices.
     #[error("a polygon needs at least 3 vertices, got {0}")]
     TooFewVertices(usize),
+    /// Fewer than 3 vertices are left once those closer than
+    /// [`crate::sections::MERGE_FRACTION`] of the perimeter are merged.
+    #[error(
+        "only {left} of the polygon's {given} vertices are more than {fraction:.0e} of the perimeter apart: the section is a line at this scale (thinner than {fraction:.0e} of its perimeter)"
+    )]
+    TooThin {
+        /// vertices given
+        given: usize,
+        /// vertices left after merging
+        left: usize,
+        /// the merge distance as a fraction of the perimeter
+        fraction: f64,
+    },
 }
 
 /// A bad `--section` specification or section file.

@@ -158,6 +158,13 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
             break;
         }
     }
+    if kept.len() < 3 {
+        return Err(GeometryError::TooThin {
+            given: m0,
+            left: kept.len(),
+            fraction: MERGE_FRACTION,
+        });
+    }
     let mut v: Vec<V2> = kept.into_iter().map(|(_, v)| v).collect();
     let dropped = drop_collinear(&mut v, COLLINEAR_FRACTION * perimeter);
     if dropped > 0 {

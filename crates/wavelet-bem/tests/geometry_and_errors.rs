@@ -120,6 +120,21 @@ fn invalid_geometry_gives_typed_errors() {
         matches!(e, GeometryError::Degenerate { piece: 1, .. }),
         "{e:?}"
     );
+    // a rectangle 1e-9 thin is a line at double precision: named, not
+    // reported as a polygon of two vertices
+    let e = sections::rectangle(1e-9, 1.0).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            GeometryError::TooThin {
+                given: 4,
+                left: 2,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(e.to_string().contains("thinner than 1e-7"), "{e}");
     // a repeated polygon vertex is merged (with a note), not a degenerate side
     let s = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
     assert_eq!(s.pieces.len(), 3);
