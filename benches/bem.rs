@@ -171,6 +171,11 @@ fn bench_sections(c: &mut Criterion) {
         ),
         ("tube", sections::tube(1.0, 0.6).expect("tube"), 1e-10),
         (
+            "thin_tube",
+            sections::tube(1.0, 0.98).expect("thin tube"),
+            1e-10,
+        ),
+        (
             "box",
             sections::hollow_rectangle(2.0, 1.0, 0.1, 0.05).expect("box"),
             1e-10,
