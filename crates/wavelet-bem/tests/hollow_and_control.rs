@@ -70,25 +70,21 @@ fn thick_tube_is_exact_in_galerkin_and_nystrom() {
     }
 }
 
+/// The unit disc with a circular hole of radius `r` centred at `c`, as a
+/// section file (arcs).
+fn eccentric_tube(r: f64, c: [f64; 2]) -> Section {
+    let text = format!(
+        "name = \"eccentric tube\"\n\
+         [[piece]]\nkind = \"arc\"\ncenter = [0.0, 0.0]\nradius = 1.0\nstart_deg = 0.0\nend_deg = 360.0\n\
+         [[hole]]\n[[hole.piece]]\nkind = \"arc\"\ncenter = [{:?}, {:?}]\nradius = {r:?}\nstart_deg = 0.0\nend_deg = 360.0\n",
+        c[0], c[1]
+    );
+    parse_section_toml(&text, "eccentric.toml").unwrap()
+}
+
 #[test]
 fn eccentric_tube_galerkin_and_nystrom_agree() {
-    let text = r#"
-name = "eccentric tube"
-[[piece]]
-kind = "arc"
-center = [0.0, 0.0]
-radius = 1.0
-start_deg = 0.0
-end_deg = 360.0
-[[hole]]
-[[hole.piece]]
-kind = "arc"
-center = [0.25, 0.1]
-radius = 0.5
-start_deg = 0.0
-end_deg = 360.0
-"#;
-    let sec = parse_section_toml(text, "ecc.toml").unwrap();
+    let sec = eccentric_tube(0.5, [0.25, 0.1]);
     let g = solve(&sec, &opts(Method::Daubechies, 256)).unwrap();
     let g2 = solve(&sec, &opts(Method::Daubechies, 512)).unwrap();
     let ny = solve(&sec, &opts(Method::Nystrom, 256)).unwrap();
@@ -521,23 +517,7 @@ fn smooth_thin_walls_are_resolved_by_the_estimates() {
         ..Options::default()
     };
     assert_eq!(control::starting_n(&tube, &nystrom), 4096);
-    let text = r#"
-name = "eccentric thin tube"
-[[piece]]
-kind = "arc"
-center = [0.0, 0.0]
-radius = 1.0
-start_deg = 0.0
-end_deg = 360.0
-[[hole]]
-[[hole.piece]]
-kind = "arc"
-center = [0.05, 0.0]
-radius = 0.9
-start_deg = 0.0
-end_deg = 360.0
-"#;
-    let ecc = parse_section_toml(text, "eccentric.toml").unwrap();
+    let ecc = eccentric_tube(0.9, [0.05, 0.0]);
     let reference = solve(&ecc, &opts_n(2048)).unwrap();
     let (j_ref, g_ref) = (
         reference.torsional_rigidity,
