@@ -163,7 +163,7 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     // the floor (it was 4 per thickness), at 1e-6, 1e-8 and 1e-10: every
     // estimate bounds the true error of J (and of Γ where there is one) on
     // the ellipses 1 × 0.01 … 0.2, the tubes 1/0.9 … 1/0.99 and four
-    // eccentric thin tubes (walls 0.01 … 0.09); the ellipses and eccentric
+    // eccentric thin tubes (thinnest walls 0.01 … 0.05); the ellipses and eccentric
     // tubes climb to the same n as before (their estimates set it), and the
     // concentric tubes stop at n = 128, exact to 3e-14 (1/0.99: 5.9 → 0.02 s).
     let thick = 2.0 * section.area / section.total_perimeter();
