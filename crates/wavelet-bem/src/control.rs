@@ -278,6 +278,11 @@ const EXTRAPOLATE_BELOW: f64 = 0.25;
 /// Every estimate is at least [`round_off`]: the round-off of a dense
 /// solve, which no difference of rungs can see.
 fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
+    // a quantity that is not finite (NaN: over- or underflow at an extreme
+    // scale) has no error estimate: never let `max` turn NaN into round-off
+    if !d.last.is_finite() {
+        return f64::INFINITY;
+    }
     let e = match (d.before, floor) {
         (Some(before), Some(f)) if before > 0.0 && d.last <= EXTRAPOLATE_BELOW * before => {
             let rho = (d.last / before).max(f);
@@ -417,6 +422,14 @@ fn finish(
         && shear_centre_error <= tol
         && warping_error <= tol;
     let mut warnings = Vec::new();
+    let shear_centre = fine.2.shear_centre;
+    if !(fine.2.warping_constant.is_finite() && shear_centre.iter().all(|v| v.is_finite())) {
+        // Γ ∝ L⁶ and the products of second moments in the shear centre ∝ L⁸
+        let size = rg.max(f64::MIN_POSITIVE);
+        warnings.push(format!(
+            "the shear centre and the warping constant Γ are not finite: at this scale (radius of gyration {size:.1e}) the products of second moments (∝ L⁸) and Γ (∝ L⁶) leave the range of double precision; give the section in units that make its size nearer 1 (J and τ_max are unaffected)"
+        ));
+    }
     if !converged {
         let n = fine.0.options.n;
         let mut w = format!(
@@ -594,7 +607,11 @@ pub fn solve_to_tolerance(
                 let coarse = ladder[used - 2].solved();
                 let older = (used == 3).then(|| ladder[0].solved());
                 let c = finish(older, coarse, fine, tol, levels.clone(), at_cap);
-                if c.converged || at_cap || hopeless {
+                // a shear centre or Γ that is not finite (extreme scale)
+                // stays so at every n: flagged now, not after the largest n
+                let out_of_range = !(c.warping.warping_constant.is_finite()
+                    && c.warping.shear_centre.iter().all(|v| v.is_finite()));
+                if c.converged || at_cap || hopeless || out_of_range {
                     return Ok(with_start(c));
                 }
             }

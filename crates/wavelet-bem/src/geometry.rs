@@ -370,7 +370,7 @@ impl Piece {
     /// Arc length of the piece.
     pub fn length(&self) -> f64 {
         match *self {
-            Piece::Segment { a, b } => ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt(),
+            Piece::Segment { a, b } => (b[0] - a[0]).hypot(b[1] - a[1]),
             Piece::Arc {
                 radius,
                 theta0,

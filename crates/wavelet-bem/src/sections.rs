@@ -148,7 +148,7 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
         }
         kept.push((k, v));
     }
-    while kept.len() > 3 {
+    while kept.len() >= 3 {
         let (j, last) = kept[kept.len() - 1];
         let d = dist(last, kept[0].1);
         if d < cut {

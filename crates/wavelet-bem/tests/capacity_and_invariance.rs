@@ -243,3 +243,34 @@ fn ldlt_of_a_hollow_section_does_not_depend_on_the_thread_count() {
         "results differ between 1, 2 and 3 threads"
     );
 }
+
+/// At extreme scales J (∝ L⁴) and τ_max (∝ L) stay exact, but Γ (∝ L⁶) and
+/// the products of second moments in the shear centre (∝ L⁸) leave double
+/// precision. Those results are flagged at once (no climb to the largest
+/// n), with a warning that names the cause, instead of NaN reported as
+/// converged with a round-off estimate.
+#[test]
+fn quantities_out_of_double_range_are_flagged_not_converged() {
+    for l in [1e40, 1e-60] {
+        let sec = sections::rectangle(l, l).unwrap();
+        let c = solve_to_tolerance(&sec, &Options::default(), 1e-8, 4096).unwrap();
+        let j = c.solution.torsional_rigidity / l.powi(4);
+        assert!(
+            (j - 0.140_577_014_955_153_7).abs() < 1e-11,
+            "L = {l:e}: J/L⁴ = {j}"
+        );
+        assert!(!c.warping.warping_constant.is_finite(), "L = {l:e}");
+        assert!(!c.converged, "L = {l:e}");
+        assert!(c.warping_error.is_infinite() && c.shear_centre_error.is_infinite());
+        assert!(c.solution.options.n < 4096, "n = {}", c.solution.options.n);
+        assert!(
+            c.warnings.iter().any(|w| w.contains("not finite")),
+            "{:?}",
+            c.warnings
+        );
+    }
+    // at L = 1e30 every quantity is finite and converged
+    let sec = sections::rectangle(1e30, 1e30).unwrap();
+    let c = solve_to_tolerance(&sec, &Options::default(), 1e-8, 4096).unwrap();
+    assert!(c.converged && c.warping.warping_constant.is_finite());
+}

@@ -135,6 +135,20 @@ fn invalid_geometry_gives_typed_errors() {
         "{e:?}"
     );
     assert!(e.to_string().contains("thinner than 1e-7"), "{e}");
+    // the same the other way round (w = 1e200: the short sides are the ones
+    // merged, the closing one included), not "piece 2 is degenerate"
+    let e = sections::rectangle(1e200, 1.0).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            GeometryError::TooThin {
+                given: 4,
+                left: 2,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
     // a repeated polygon vertex is merged (with a note), not a degenerate side
     let s = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
     assert_eq!(s.pieces.len(), 3);
