@@ -167,10 +167,7 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     // tubes climb to the same n as before (their estimates set it), and the
     // concentric tubes stop at n = 128, exact to 3e-14 (1/0.99: 5.9 → 0.02 s).
     let thick = 2.0 * section.area / section.total_perimeter();
-    let graded = section
-        .curves()
-        .iter()
-        .any(|c| (0..c.pieces.len()).any(|k| c.graded(k)));
+    let graded = section.curves().iter().any(|c| c.any_graded());
     let per_thickness = match (graded, opts.method) {
         (true, _) => 8.0,
         (false, Method::Daubechies) => 0.0,

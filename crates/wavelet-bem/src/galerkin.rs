@@ -320,10 +320,7 @@ pub(crate) fn solve(
             let mut matrix = std::mem::take(&mut sys.matrix);
             let mut spare = std::mem::take(&mut sys.spare);
             // graded corners can leave the discrete matrix slightly indefinite: LU there
-            let smooth = section
-                .curves()
-                .iter()
-                .all(|c| (0..c.pieces.len()).all(|k| !c.graded(k)));
+            let smooth = section.curves().iter().all(|c| !c.any_graded());
             let (x, c) = shifted_saddle_solve(
                 &mut matrix,
                 &mut spare,

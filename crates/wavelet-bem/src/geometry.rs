@@ -8,7 +8,7 @@
 
 use crate::error::GeometryError;
 use crate::polyline::{first_crossing, polyline, polyline_distance, polylines_cross, winding};
-use crate::quadrature::composite_gauss_01;
+use crate::quadrature::{composite_gauss_01, gauss_legendre_01};
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
 
@@ -352,12 +352,22 @@ impl Piece {
             || matches!(*self, Piece::Arc { theta0, theta1, .. } if ((theta1 - theta0).abs() - TAU).abs() < 1e-14)
     }
 
-    /// Integral of `f(x, dx/dw)` over w ∈ [0, 1] by composite Gauss–Legendre.
+    /// Integral of `f(x, dx/dw)` over w ∈ [0, 1] by composite Gauss–Legendre;
+    /// on a segment by 3-point Gauss–Legendre, exact for the integrands
+    /// used here (the section's moments: polynomials of degree ≤ 4 in x,
+    /// so of degree ≤ 4 in w on a segment, where dx/dw is constant). The
+    /// 384-point rule on every side made a 100 000-gon's moments take
+    /// seconds.
     fn integrate(&self, f: &dyn Fn(V2, V2) -> f64) -> f64 {
-        // the rule is built once: rebuilding it per piece took 46 % of a
+        // the rules are built once: rebuilding one per piece took 46 % of a
         // 2000-gon's run (section moments over 2000 pieces, several times)
         static RULE: std::sync::OnceLock<(Vec<f64>, Vec<f64>)> = std::sync::OnceLock::new();
-        let (xs, ws) = RULE.get_or_init(|| composite_gauss_01(16, 24));
+        static SEGMENT: std::sync::OnceLock<(Vec<f64>, Vec<f64>)> = std::sync::OnceLock::new();
+        let (xs, ws) = if matches!(self, Piece::Segment { .. }) {
+            SEGMENT.get_or_init(|| gauss_legendre_01(3))
+        } else {
+            RULE.get_or_init(|| composite_gauss_01(16, 24))
+        };
         xs.iter()
             .zip(ws)
             .map(|(&w, &wt)| {
@@ -774,10 +784,27 @@ impl Section {
 
     /// Whether junction k must be graded: every junction of a multi-piece
     /// boundary (corners, and curvature jumps), and cusps of single pieces.
+    /// O(pieces) (it checks [`Section::nearly_smooth_polygon`]): loops over
+    /// the junctions take [`Section::graded_junctions`].
     pub fn graded(&self, k: usize) -> bool {
-        if self.nearly_smooth_polygon() {
-            return false;
-        }
+        !self.nearly_smooth_polygon() && self.junction_needs_grading(k)
+    }
+
+    /// [`Section::graded`] for every junction, in one pass.
+    pub fn graded_junctions(&self) -> Vec<bool> {
+        let smooth_polygon = self.nearly_smooth_polygon();
+        (0..self.pieces.len())
+            .map(|k| !smooth_polygon && self.junction_needs_grading(k))
+            .collect()
+    }
+
+    /// Whether any junction of this curve is graded.
+    pub fn any_graded(&self) -> bool {
+        !self.nearly_smooth_polygon()
+            && (0..self.pieces.len()).any(|k| self.junction_needs_grading(k))
+    }
+
+    fn junction_needs_grading(&self, k: usize) -> bool {
         self.pieces.len() > 1 || !self.junctions[k].is_smooth()
     }
 

@@ -126,8 +126,10 @@ impl Parametrisation {
             let prev = *breaks.last().unwrap_or(&0.0);
             breaks.push(if b > prev { b } else { prev + 1.0 / scale });
         }
-        let grading = (0..m)
-            .map(|k| if section.graded(k) { Some(p) } else { None })
+        let grading = section
+            .graded_junctions()
+            .into_iter()
+            .map(|g| if g { Some(p) } else { None })
             .collect();
         let anchors = section.junctions.iter().map(|j| j.point).collect();
         Parametrisation {

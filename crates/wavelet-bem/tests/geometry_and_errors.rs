@@ -489,3 +489,20 @@ fn points_on_straight_sides_are_dropped() {
         sections::polygon(&[[0.0, 0.0], [0.5, 1e-6], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]).unwrap();
     assert_eq!(bent.pieces.len(), 5);
 }
+
+/// The moments of a polygon are exact (3-point Gauss per side: the
+/// integrands are polynomials of degree ≤ 4 along a side): the right
+/// triangle with legs b = 3 and h = 2 has A = 3, centroid (1, 2/3),
+/// I_x = b h³/36, I_y = h b³/36 and I_xy = −b²h²/72 about its centroid.
+#[test]
+fn polygon_moments_are_exact() {
+    let t = sections::polygon(&[[0.0, 0.0], [3.0, 0.0], [0.0, 2.0]]).unwrap();
+    let p = t.properties();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-14 * b.abs().max(1.0);
+    assert!(close(p.area, 3.0), "A {}", p.area);
+    assert!(close(p.centroid[0], 1.0) && close(p.centroid[1], 2.0 / 3.0));
+    assert!(close(p.ixx, 3.0 * 8.0 / 36.0), "Ixx {}", p.ixx);
+    assert!(close(p.iyy, 2.0 * 27.0 / 36.0), "Iyy {}", p.iyy);
+    assert!(close(p.ixy, -9.0 * 4.0 / 72.0), "Ixy {}", p.ixy);
+    assert!(close(t.polar_moment(), p.ixx + p.iyy));
+}
