@@ -121,34 +121,24 @@ fn invalid_geometry_gives_typed_errors() {
         "{e:?}"
     );
     // a rectangle 1e-9 thin is a line at double precision: named, not
-    // reported as a polygon of two vertices
-    let e = sections::rectangle(1e-9, 1.0).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            GeometryError::TooThin {
-                given: 4,
-                left: 2,
-                ..
-            }
-        ),
-        "{e:?}"
-    );
-    assert!(e.to_string().contains("thinner than 1e-7"), "{e}");
-    // the same the other way round (w = 1e200: the short sides are the ones
-    // merged, the closing one included), not "piece 2 is degenerate"
-    let e = sections::rectangle(1e200, 1.0).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            GeometryError::TooThin {
-                given: 4,
-                left: 2,
-                ..
-            }
-        ),
-        "{e:?}"
-    );
+    // reported as a polygon of two vertices; the same the other way round
+    // (w = 1e200: the short sides are the ones merged, the closing one
+    // included), not "piece 2 is degenerate"
+    for (w, h) in [(1e-9, 1.0), (1e200, 1.0)] {
+        let e = sections::rectangle(w, h).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GeometryError::TooThin {
+                    given: 4,
+                    left: 2,
+                    ..
+                }
+            ),
+            "{w:e} × {h}: {e:?}"
+        );
+        assert!(e.to_string().contains("thinner than 1e-7"), "{e}");
+    }
     // a repeated polygon vertex is merged (with a note), not a degenerate side
     let s = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
     assert_eq!(s.pieces.len(), 3);
