@@ -181,6 +181,11 @@ fn bench_sections(c: &mut Criterion) {
             1e-10,
         ),
         (
+            "thin_box",
+            sections::hollow_rectangle(2.0, 1.0, 0.02, 0.02).expect("thin box"),
+            1e-10,
+        ),
+        (
             "sp_box",
             sections::parse_spec("box:w=2,h=1,tf=0.12,tw=0.08").expect("box"),
             1e-10,

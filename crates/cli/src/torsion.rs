@@ -75,6 +75,12 @@ pub struct TorsionArgs {
     /// Kress grading exponent at corners (default 8; 4 at a cusp)
     #[arg(long)]
     pub grading: Option<f64>,
+
+    /// Kress's grading map on every panel: no corner zones on the long
+    /// panels of thin-walled sections with re-entrant corners (a cross-check;
+    /// the zones halve the n that thin walls need)
+    #[arg(long)]
+    pub no_corner_zones: bool,
     /// Output format
     #[arg(long, value_enum, default_value_t = FormatArg::Text)]
     pub format: FormatArg,
@@ -161,6 +167,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         wavelet_order: wavelet.order,
         grading,
         linear: LinearSolver::Dense,
+        corner_zones: !args.no_corner_zones,
     };
     let points = match &args.points {
         Some(p) => parse_points(p)?,
@@ -358,11 +365,15 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
             say!("note               {note}");
         }
         say!(
-            "method             {method_name}{}  n = {n}  grading p = {grading}",
+            "method             {method_name}{}  n = {n}  grading p = {grading}{}",
             if method == Method::Daubechies {
                 format!(" (db{})", wavelet.order)
             } else {
                 String::new()
+            },
+            match sol.zoned_panels() {
+                0 => String::new(),
+                z => format!(" (corner zones on {z} long panels)"),
             }
         );
         let pr = section.properties();
@@ -504,6 +515,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 "method": method_name,
                 "wavelet": if method == Method::Daubechies { Some(format!("db{}", wavelet.order)) } else { None },
                 "grading": grading,
+                "corner_zone_panels": sol.zoned_panels(),
                 "multiplier": js(sol.multiplier),
                 "converged": ctl.converged,
                 "tolerance": ctl.tol,

@@ -169,7 +169,17 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     // concentric tubes stop at n = 128, exact to 3e-14 (1/0.99: 5.9 → 0.02 s).
     let thick = 2.0 * section.area / section.total_perimeter();
     let graded = section.curves().iter().any(|c| c.any_graded());
+    // long graded panels of thin-walled sections with re-entrant corners
+    // have corner zones and the mean spacing in their middle: 4 per thickness
+    let zoned = matches!(opts.method, Method::Daubechies)
+        && opts.corner_zones
+        && crate::grading::zone_wall(section).is_some_and(|w| {
+            section.curves().iter().any(|c| {
+                crate::grading::Parametrisation::with_zones(c, opts.grading, Some(w)).has_zones()
+            })
+        });
     let per_thickness = match (graded, opts.method) {
+        (true, _) if zoned => 4.0,
         (true, _) => 8.0,
         (false, Method::Daubechies) => 0.0,
         (false, _) => 4.0,

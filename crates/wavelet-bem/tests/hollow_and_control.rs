@@ -540,8 +540,57 @@ fn smooth_thin_walls_are_resolved_by_the_estimates() {
             c.warping_error
         );
     }
+    // a thin box: 8 nodes per wall thickness with Kress's map (twice the
+    // mean spacing in the middle of a panel), 4 with corner zones
     let boxed = sections::hollow_rectangle(1.0, 1.0, 0.05, 0.05).unwrap();
-    assert_eq!(control::starting_n(&boxed, &opts), 1024);
+    assert_eq!(control::starting_n(&boxed, &opts), 512);
+    let kress = Options {
+        corner_zones: false,
+        ..opts
+    };
+    assert_eq!(control::starting_n(&boxed, &kress), 1024);
+}
+
+/// Corner zones: a thin box (2 × 1, t = 0.02) reaches 1e-8 at n = 2048 per
+/// curve (Kress's map everywhere needs 4096: 5–6 s), with J and Γ within
+/// their estimates against the Kress solve at n = 4096 (the two maps agree
+/// there to 3e-13); a convex thin rectangle keeps Kress's map (its τ_max
+/// converged more slowly than τ's rate floor with zones).
+#[test]
+fn corner_zones_resolve_thin_boxes_at_half_the_resolution() {
+    let thin = sections::hollow_rectangle(2.0, 1.0, 0.02, 0.02).unwrap();
+    let reference = solve(
+        &thin,
+        &Options {
+            corner_zones: false,
+            ..opts_n(4096)
+        },
+    )
+    .unwrap();
+    assert_eq!(reference.zoned_panels(), 0);
+    let w_ref = reference.warping();
+    let c = solve_to_tolerance(&thin, &Options::default(), 1e-8, 4096).unwrap();
+    let ej = rel(c.solution.torsional_rigidity, reference.torsional_rigidity);
+    let eg = rel(c.warping.warping_constant, w_ref.warping_constant);
+    eprintln!(
+        "thin box 1e-8: n {} ({} zoned panels), J err {ej:.1e} est {:.1e}, Γ err {eg:.1e} est {:.1e}",
+        c.solution.options.n,
+        c.solution.zoned_panels(),
+        c.j_error,
+        c.warping_error
+    );
+    assert!(c.converged);
+    assert_eq!(c.solution.zoned_panels(), 8);
+    assert!(c.solution.options.n <= 2048, "n = {}", c.solution.options.n);
+    assert!(ej <= c.j_error, "J error {ej:e} > estimate {:e}", c.j_error);
+    assert!(
+        eg <= c.warping_error,
+        "Γ error {eg:e} > estimate {:e}",
+        c.warping_error
+    );
+    let strip = sections::rectangle(1.0, 0.02).unwrap();
+    let s = solve(&strip, &opts_n(256)).unwrap();
+    assert_eq!(s.zoned_panels(), 0);
 }
 
 /// The warping outputs' estimates bound their true errors on the thin-walled
