@@ -95,6 +95,10 @@ pub const ZONE_WALLS: f64 = 3.0;
 /// thicknesses keep it.
 pub const ZONE_MAX_DELTA: f64 = 0.3;
 
+/// Smallest corner zone, as a fraction of its panel, that is used: a wall
+/// 1/3000 of its panel long needs more than 12 000 nodes per curve.
+pub const ZONE_MIN_DELTA: f64 = 1e-3;
+
 /// The mean wall thickness 2A/P of `section` (all its curves) when its
 /// graded panels may use [`ZoneMap`]: only for sections with a re-entrant
 /// corner (boxes, I, channels, L: their τ_max is singular and not
@@ -267,7 +271,9 @@ impl Parametrisation {
         for (k, piece) in section.pieces.iter().enumerate() {
             let Some(p) = par.grading[k] else { continue };
             let delta = ZONE_WALLS * wall / piece.length();
-            if delta.is_finite() && delta > 0.0 && delta <= ZONE_MAX_DELTA {
+            // (below ZONE_MIN_DELTA the wall would need more nodes than a
+            // dense solve reaches; Kress's map keeps the table small)
+            if delta.is_finite() && (ZONE_MIN_DELTA..=ZONE_MAX_DELTA).contains(&delta) {
                 par.zones[k] = Some(Arc::new(ZoneMap::new(p, delta)));
             }
         }
