@@ -174,9 +174,10 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     let zoned = matches!(opts.method, Method::Daubechies)
         && opts.corner_zones
         && crate::grading::zone_wall(section).is_some_and(|w| {
-            section.curves().iter().any(|c| {
-                crate::grading::Parametrisation::with_zones(c, opts.grading, Some(w)).has_zones()
-            })
+            section
+                .curves()
+                .iter()
+                .any(|c| crate::grading::Parametrisation::would_zone(c, w))
         });
     let per_thickness = match (graded, opts.method) {
         (true, _) if zoned => 4.0,

@@ -114,6 +114,15 @@ pub fn zone_wall(section: &Section) -> Option<f64> {
     (wall.is_finite() && wall > 0.0).then_some(wall)
 }
 
+/// The corner zone δ (a fraction of the panel) of a graded panel `len`
+/// long on walls `wall` thick, if it gets one: below [`ZONE_MIN_DELTA`] the
+/// wall would need more nodes than a dense solve reaches (and the table
+/// would be large), above [`ZONE_MAX_DELTA`] the panel is too short.
+fn zone_delta(len: f64, wall: f64) -> Option<f64> {
+    let delta = ZONE_WALLS * wall / len;
+    (delta.is_finite() && (ZONE_MIN_DELTA..=ZONE_MAX_DELTA).contains(&delta)).then_some(delta)
+}
+
 /// Gauss–Legendre points per cell of [`ZoneMap`]'s cumulative integral.
 const ZONE_POINTS: usize = 8;
 
@@ -270,19 +279,22 @@ impl Parametrisation {
         let Some(wall) = wall else { return par };
         for (k, piece) in section.pieces.iter().enumerate() {
             let Some(p) = par.grading[k] else { continue };
-            let delta = ZONE_WALLS * wall / piece.length();
-            // (below ZONE_MIN_DELTA the wall would need more nodes than a
-            // dense solve reaches; Kress's map keeps the table small)
-            if delta.is_finite() && (ZONE_MIN_DELTA..=ZONE_MAX_DELTA).contains(&delta) {
+            if let Some(delta) = zone_delta(piece.length(), wall) {
                 par.zones[k] = Some(Arc::new(ZoneMap::new(p, delta)));
             }
         }
         par
     }
 
-    /// Whether some panel uses the corner-zone map.
-    pub fn has_zones(&self) -> bool {
-        self.zones.iter().any(Option::is_some)
+    /// Whether [`Parametrisation::with_zones`] gives some panel of the
+    /// curve `section` a corner zone for walls `wall` thick (without
+    /// building the maps).
+    pub fn would_zone(section: &Section, wall: f64) -> bool {
+        section
+            .graded_junctions()
+            .iter()
+            .zip(&section.pieces)
+            .any(|(&graded, piece)| graded && zone_delta(piece.length(), wall).is_some())
     }
 
     /// Number of panels that use the corner-zone map.
