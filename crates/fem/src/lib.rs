@@ -28,6 +28,7 @@
 //! * HRZ: Hinton–Rock–Zienkiewicz lumping (the consistent diagonal, scaled to the total).
 
 pub mod assembler;
+pub mod condensed;
 pub mod constraints;
 pub mod dofmap;
 pub mod edge3;
@@ -44,6 +45,7 @@ pub mod triangle6;
 pub mod update;
 
 pub use assembler::{Assembler, AssemblerBuilder, BlockId, Element, LocalSystem, Parallelism};
+pub use condensed::CondensedCholesky;
 pub use constraints::{Dirichlet, PreparedDirichlet};
 pub use dofmap::DofMap;
 pub use error::FemError;

@@ -84,6 +84,30 @@ impl SparsityPattern {
         })
     }
 
+    /// A pattern from CSR arrays (rows sorted, in range, each with its
+    /// diagonal), node block size 1.
+    pub fn from_csr(n: usize, indptr: Vec<usize>, indices: Vec<usize>) -> Result<Self, FemError> {
+        let ok = indptr.len() == n + 1
+            && indptr.first() == Some(&0)
+            && indptr.last() == Some(&indices.len())
+            && (0..n).all(|i| {
+                let row = indices.get(indptr[i]..indptr[i + 1]).unwrap_or(&[]);
+                indptr[i] <= indptr[i + 1]
+                    && row.windows(2).all(|w| w[0] < w[1])
+                    && row.last().is_none_or(|&j| j < n)
+                    && row.binary_search(&i).is_ok()
+            });
+        if !ok {
+            return Err(FemError::Solver("malformed CSR pattern".into()));
+        }
+        Ok(SparsityPattern {
+            n,
+            indptr,
+            indices,
+            block: 1,
+        })
+    }
+
     /// Number of rows (= columns).
     pub fn n(&self) -> usize {
         self.n

@@ -148,6 +148,11 @@ impl CholeskySolver {
         }
     }
 
+    /// The analysed pattern.
+    pub fn pattern(&self) -> &std::sync::Arc<SparsityPattern> {
+        &self.pattern
+    }
+
     /// Number of stored entries in the factor.
     pub fn factor_nnz(&self) -> usize {
         self.l_values.len()

@@ -5,7 +5,7 @@ use tecon_fem::FemError;
 
 use crate::error::{ElasticError, IterationRecord};
 
-use super::front;
+use super::tracker::PassTracker;
 use super::*;
 
 impl StaticSolver<'_> {
@@ -26,122 +26,30 @@ impl StaticSolver<'_> {
             u[d] = v * loads.displacement;
         }
         self.rotations.unrotate_vector(&mut u);
-        let mut history: Vec<IterationRecord> = Vec::new();
-        let mut prev: Option<Vec<(PointStatus, f64)>> = None;
-        let mut prev2: Option<Vec<PointStatus>> = None;
-        let mut ping_pong = 0;
-        let mut short_steps = 0;
-        // The force scale of this increment: the largest external or internal
-        // force norm seen so far (the internal force alone can vanish, e.g.
-        // when bodies separate and move rigidly).
-        let mut reference = norm(f_ext).max(f64::MIN_POSITIVE);
         let opts = self.options;
-        // front prediction (see `front`): element hops ahead of the points
-        // that just opened, doubled after every kept prediction
-        let mut reach = 1usize;
+        let mut t = PassTracker::new(norm(f_ext), pass);
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
-        // points whose stick/slip status oscillated in this pass: their
-        // slipping tangent is the secant one from then on (see below)
-        let mut damped: Vec<bool> = Vec::new();
-        // The damping is a fallback: it starts at the first status pattern
-        // repeated two iterates later (a pass that converges without a
-        // repeat keeps the exact path, bit for bit), and the ping-pong guard
-        // then counts afresh, once.
-        let mut damping = false;
-        while history.len() < opts.max_iterations {
-            let it = history.len();
+        while t.history.len() < opts.max_iterations {
             let (kt, f_int) = self.tangent_and_force(&u, committed, true)?;
             let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
-            let status = self.statuses(&u, committed);
-            let status_t = status.clone();
+            let status_t = self.statuses(&u, committed);
             let r = self.residual(f_ext, &f_int);
-            reference = reference.max(norm(&f_int));
-            let rel = norm(&r) / reference;
+            t.reference = t.reference.max(norm(&f_int));
+            let rel = norm(&r) / t.reference;
             // The residual cannot fall below the round-off of the sums that
             // form it: with a stiff joint (a bonded interface with penalty
             // 1e5 E/h) that floor lies above the tolerance, and a linear
             // problem would otherwise iterate forever at it.
-            let floor = round_off_floor(&kt, &u, f_ext) / reference;
+            let floor = round_off_floor(&kt, &u, f_ext) / t.reference;
             let tolerance = opts.residual_tolerance.max(floor);
             // a corrected linear solve need not beat the convergence test
-            let accept = LINEAR_SHARE * tolerance * reference;
-            // A status change counts only where the point carries traction
-            // before or after it: points at zero load (e.g. far from a local
-            // thermal load) flip between touching and open at round-off level.
-            let t_max = status.iter().map(|s| s.1).fold(0.0, f64::max);
-            let changed = match &prev {
-                Some(p) => p
-                    .iter()
-                    .zip(&status)
-                    .filter(|(a, b)| a.0 != b.0 && a.1.max(b.1) > STATUS_TRACTION_FLOOR * t_max)
-                    .count(),
-                None => status.len(),
-            };
-            let status: Vec<PointStatus> = status.iter().map(|s| s.0).collect();
-            if prev2.as_ref().is_some_and(|p2| *p2 == status) && changed > 0 {
-                ping_pong += 1;
-                if !damping && opts.slip_damping {
-                    damping = true;
-                    ping_pong = 0;
-                }
+            let accept = LINEAR_SHARE * tolerance * t.reference;
+            let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
+            if obs.done {
+                return Ok((u, t.history));
             }
-            // A point back where it was two iterates ago, via another
-            // status, with slip on one side: the exact slip tangent (0)
-            // sends it across the kink again and the line search stops it
-            // there — a zigzag of short steps (high friction). Such points
-            // take the secant slip stiffness k_s s/|τ_trial| until the
-            // statuses settle: a positive definite tangent, so still a
-            // descent direction for the exact energy line search, and the
-            // converged answer does not change.
-            if let (Some(p), Some(p2)) = (&prev, &prev2) {
-                damped.resize(status.len(), false);
-                for (i, s) in status.iter().enumerate() {
-                    let was = p[i].0;
-                    if *s == p2[i] && *s != was && (s.1 != 0 || was.1 != 0) {
-                        damped[i] = true;
-                    }
-                }
-            }
-            let counts = count(&status);
-            let last_correction = history.last().map_or(f64::INFINITY, |h| h.correction);
-            // After a full step with no status change the linearisation was
-            // exact (the problem is piecewise linear), so the residual alone
-            // measures the error; otherwise the correction must be small too.
-            let full_step = history.last().is_some_and(|h| h.step == 1.0);
-            let converged = it > 0
-                && rel <= tolerance
-                && changed == 0
-                && (last_correction <= opts.correction_tolerance
-                    || rel <= tolerance * 1e-3
-                    || full_step);
-            history.push(IterationRecord {
-                pass,
-                iteration: it,
-                residual: rel,
-                correction: 0.0,
-                step: 0.0,
-                status: counts,
-                changed,
-                floor,
-                predicted: 0,
-                rejected: false,
-            });
-            if converged || (rel == 0.0 && changed == 0) {
-                return Ok((u, history));
-            }
-            if ping_pong > opts.max_ping_pong {
-                return Err(failure(
-                    format!("contact status ping-pong ({ping_pong} repeats)"),
-                    history,
-                ));
-            }
-            if changed == 0 {
-                // statuses settled: the exact tangent converges in one step
-                // (the secant one only linearly)
-                damped.fill(false);
-            }
-            if damping && damped.iter().any(|&d| d) {
-                let flagged = self.with_secant_slip(committed, &damped);
+            if let Some(damped) = t.damped_points() {
+                let flagged = self.with_secant_slip(committed, damped);
                 let (k2, _) = self.tangent_and_force(&u, &flagged, true)?;
                 kt = k2.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             }
@@ -156,20 +64,13 @@ impl StaticSolver<'_> {
                     return self.newton(f_ext, loads, committed, u, pass);
                 }
             }
-            let symmetric = counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
-            let predicted = match &prev {
-                Some(p) if symmetric && opts.front_prediction => {
-                    let before: Vec<PointStatus> = p.iter().map(|s| s.0).collect();
-                    front::predicted_openings(
-                        &self.neighbours,
-                        &per_element,
-                        &before,
-                        &status,
-                        reach,
-                    )
-                }
-                _ => Vec::new(),
-            };
+            let symmetric = obs.counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
+            let predicted = t.predicted_openings(
+                &self.neighbours,
+                &per_element,
+                &obs.status,
+                symmetric && opts.front_prediction,
+            );
             let trial = if predicted.is_empty() {
                 None
             } else {
@@ -177,33 +78,14 @@ impl StaticSolver<'_> {
             };
             let (du, du_rotated, known_step) = match trial {
                 Some((du, du_rotated, step, all_open)) => {
-                    // a front that was not reached by all predicted points
-                    // is near: look less far ahead next time
-                    reach = if all_open {
-                        2 * reach
-                    } else {
-                        (reach / 2).max(1)
-                    };
-                    if let Some(h) = history.last_mut() {
-                        h.predicted = predicted.len();
-                    }
+                    t.kept_prediction(predicted.len(), all_open);
                     (du, du_rotated, Some(step))
                 }
                 None => {
-                    if !predicted.is_empty() {
-                        // the trial cost a solve: it counts as an iteration
-                        reach = 1;
-                        if let Some(mut again) = history.last().cloned() {
-                            if let Some(h) = history.last_mut() {
-                                h.predicted = predicted.len();
-                                h.rejected = true;
-                            }
-                            again.iteration += 1;
-                            history.push(again);
-                        }
-                        if history.len() >= opts.max_iterations {
-                            break;
-                        }
+                    if !predicted.is_empty()
+                        && t.rejected_prediction(predicted.len(), opts.max_iterations)
+                    {
+                        break;
                     }
                     match self.solve(&kt, &mut du, symmetric, accept) {
                         Err(ElasticError::Fem(FemError::Unconstrained { .. }))
@@ -241,37 +123,15 @@ impl StaticSolver<'_> {
             } else {
                 self.residual_line_search(f_ext, committed, &u, &du, &r)?
             };
-            // Newton that only creeps (the line search keeps cutting while no
-            // status changes) will not converge: give the increment back early
-            // so it can be cut. Short steps that move a stick/slip or contact
-            // front by a point or two are progress.
-            short_steps = if step < 0.2 && changed == 0 {
-                short_steps + 1
-            } else {
-                0
-            };
-            if short_steps >= 4 {
-                return Err(failure(
-                    "the line search keeps cutting the Newton step (stagnation)",
-                    history,
-                ));
-            }
             for (a, b) in u.iter_mut().zip(&du) {
                 *a += step * b;
             }
             let unorm = norm(&u).max(f64::MIN_POSITIVE);
-            if let Some(h) = history.last_mut() {
-                h.correction = step * norm(&du) / unorm;
-                h.step = step;
-            }
-            prev2 = prev
-                .take()
-                .map(|p: Vec<(PointStatus, f64)>| p.iter().map(|s| s.0).collect());
-            prev = Some(status_t);
+            t.stepped(step, step * norm(&du) / unorm)?;
         }
         Err(failure(
             format!("no convergence in {} iterations", opts.max_iterations),
-            history,
+            t.history,
         ))
     }
 }

@@ -1,0 +1,240 @@
+//! The bookkeeping of one Newton pass, shared by the full and the condensed
+//! iteration: the history, the counted status changes, the convergence
+//! test, the ping-pong and stagnation guards, the secant slip damping and
+//! the reach of the opening-front prediction.
+
+use crate::error::{ElasticError, IterationRecord};
+
+use super::newton::failure;
+use super::*;
+
+/// What one iterate's statuses and residual say.
+pub(super) struct Observation {
+    /// Converged: stop with this iterate.
+    pub done: bool,
+    /// Statuses of the iterate.
+    pub status: Vec<PointStatus>,
+    /// Open / stick / slip counts.
+    pub counts: [usize; 3],
+}
+
+pub(super) struct PassTracker {
+    pub history: Vec<IterationRecord>,
+    prev: Option<Vec<(PointStatus, f64)>>,
+    prev2: Option<Vec<PointStatus>>,
+    /// The last observed iterate's statuses, `prev` once its step is taken.
+    prev_pending: Option<Vec<(PointStatus, f64)>>,
+    ping_pong: usize,
+    short_steps: usize,
+    /// The force scale of this increment: the largest external or internal
+    /// force norm seen so far (the internal force alone can vanish, e.g.
+    /// when bodies separate and move rigidly).
+    pub reference: f64,
+    /// Front prediction (see `front`): element hops ahead of the points
+    /// that just opened, doubled after every kept prediction.
+    reach: usize,
+    /// Points whose stick/slip status oscillated in this pass: their
+    /// slipping tangent is the secant one from then on.
+    pub damped: Vec<bool>,
+    /// The damping is a fallback: it starts at the first status pattern
+    /// repeated two iterates later (a pass that converges without a
+    /// repeat keeps the exact path, bit for bit), and the ping-pong guard
+    /// then counts afresh, once.
+    damping: bool,
+    pass: usize,
+}
+
+impl PassTracker {
+    pub fn new(f_ext_norm: f64, pass: usize) -> Self {
+        PassTracker {
+            history: Vec::new(),
+            prev: None,
+            prev2: None,
+            prev_pending: None,
+            ping_pong: 0,
+            short_steps: 0,
+            reference: f_ext_norm.max(f64::MIN_POSITIVE),
+            reach: 1,
+            damped: Vec::new(),
+            damping: false,
+            pass,
+        }
+    }
+
+    /// Records an iterate: its statuses (with the traction each point
+    /// carries), relative residual, round-off floor and tolerance. Fails on
+    /// status ping-pong.
+    pub fn observe(
+        &mut self,
+        status_t: Vec<(PointStatus, f64)>,
+        rel: f64,
+        floor: f64,
+        tolerance: f64,
+        opts: &SolverOptions,
+    ) -> Result<Observation, ElasticError> {
+        let it = self.history.len();
+        // A status change counts only where the point carries traction
+        // before or after it: points at zero load (e.g. far from a local
+        // thermal load) flip between touching and open at round-off level.
+        let t_max = status_t.iter().map(|s| s.1).fold(0.0, f64::max);
+        let changed = match &self.prev {
+            Some(p) => p
+                .iter()
+                .zip(&status_t)
+                .filter(|(a, b)| a.0 != b.0 && a.1.max(b.1) > STATUS_TRACTION_FLOOR * t_max)
+                .count(),
+            None => status_t.len(),
+        };
+        let status: Vec<PointStatus> = status_t.iter().map(|s| s.0).collect();
+        if self.prev2.as_ref().is_some_and(|p2| *p2 == status) && changed > 0 {
+            self.ping_pong += 1;
+            if !self.damping && opts.slip_damping {
+                self.damping = true;
+                self.ping_pong = 0;
+            }
+        }
+        // A point back where it was two iterates ago, via another status,
+        // with slip on one side: the exact slip tangent (0) sends it across
+        // the kink again and the line search stops it there — a zigzag of
+        // short steps (high friction). Such points take the secant slip
+        // stiffness k_s s/|τ_trial| until the statuses settle: a positive
+        // definite tangent, so still a descent direction for the exact
+        // energy line search, and the converged answer does not change.
+        if let (Some(p), Some(p2)) = (&self.prev, &self.prev2) {
+            self.damped.resize(status.len(), false);
+            for (i, s) in status.iter().enumerate() {
+                let was = p[i].0;
+                if *s == p2[i] && *s != was && (s.1 != 0 || was.1 != 0) {
+                    self.damped[i] = true;
+                }
+            }
+        }
+        let counts = count(&status);
+        let last_correction = self.history.last().map_or(f64::INFINITY, |h| h.correction);
+        // After a full step with no status change the linearisation was
+        // exact (the problem is piecewise linear), so the residual alone
+        // measures the error; otherwise the correction must be small too.
+        let full_step = self.history.last().is_some_and(|h| h.step == 1.0);
+        let converged = it > 0
+            && rel <= tolerance
+            && changed == 0
+            && (last_correction <= opts.correction_tolerance
+                || rel <= tolerance * 1e-3
+                || full_step);
+        self.history.push(IterationRecord {
+            pass: self.pass,
+            iteration: it,
+            residual: rel,
+            correction: 0.0,
+            step: 0.0,
+            status: counts,
+            changed,
+            floor,
+            predicted: 0,
+            rejected: false,
+        });
+        let done = converged || (rel == 0.0 && changed == 0);
+        if !done && self.ping_pong > opts.max_ping_pong {
+            return Err(failure(
+                format!("contact status ping-pong ({} repeats)", self.ping_pong),
+                std::mem::take(&mut self.history),
+            ));
+        }
+        if changed == 0 {
+            // statuses settled: the exact tangent converges in one step
+            // (the secant one only linearly)
+            self.damped.fill(false);
+        }
+        self.prev_pending = Some(status_t);
+        Ok(Observation {
+            done,
+            status,
+            counts,
+        })
+    }
+
+    /// The flat points whose tangent takes the secant slip stiffness, if
+    /// the damping is on and any point needs it.
+    pub fn damped_points(&self) -> Option<&[bool]> {
+        (self.damping && self.damped.iter().any(|&d| d)).then_some(&self.damped[..])
+    }
+
+    /// Points predicted open ahead of the front (see `front`).
+    pub fn predicted_openings(
+        &self,
+        neighbours: &[Vec<Vec<usize>>],
+        per_element: &[usize],
+        status: &[PointStatus],
+        enabled: bool,
+    ) -> Vec<usize> {
+        match &self.prev {
+            Some(p) if enabled => {
+                let before: Vec<PointStatus> = p.iter().map(|s| s.0).collect();
+                front::predicted_openings(neighbours, per_element, &before, status, self.reach)
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// A predicted step of `n` points was kept; `all_open`: every
+    /// predicted point was open at its end.
+    pub fn kept_prediction(&mut self, n: usize, all_open: bool) {
+        // a front that was not reached by all predicted points is near:
+        // look less far ahead next time
+        self.reach = if all_open {
+            2 * self.reach
+        } else {
+            (self.reach / 2).max(1)
+        };
+        if let Some(h) = self.history.last_mut() {
+            h.predicted = n;
+        }
+    }
+
+    /// A predicted step of `n` points was discarded: the trial cost a
+    /// solve, so it counts as an iteration. True if that used up the
+    /// iterations of the pass.
+    pub fn rejected_prediction(&mut self, n: usize, max_iterations: usize) -> bool {
+        self.reach = 1;
+        if let Some(mut again) = self.history.last().cloned() {
+            if let Some(h) = self.history.last_mut() {
+                h.predicted = n;
+                h.rejected = true;
+            }
+            again.iteration += 1;
+            self.history.push(again);
+        }
+        self.history.len() >= max_iterations
+    }
+
+    /// Records the step taken from the last iterate (its relative size
+    /// `correction`), after the stagnation guard: Newton that only creeps
+    /// (the line search keeps cutting while no status changes) will not
+    /// converge, so the increment is given back early to be cut. Short
+    /// steps that move a stick/slip or contact front by a point or two are
+    /// progress.
+    pub fn stepped(&mut self, step: f64, correction: f64) -> Result<(), ElasticError> {
+        let changed = self.history.last().map_or(0, |h| h.changed);
+        self.short_steps = if step < 0.2 && changed == 0 {
+            self.short_steps + 1
+        } else {
+            0
+        };
+        if self.short_steps >= 4 {
+            return Err(failure(
+                "the line search keeps cutting the Newton step (stagnation)",
+                std::mem::take(&mut self.history),
+            ));
+        }
+        if let Some(h) = self.history.last_mut() {
+            h.correction = correction;
+            h.step = step;
+        }
+        self.prev2 = self
+            .prev
+            .take()
+            .map(|p: Vec<(PointStatus, f64)>| p.iter().map(|s| s.0).collect());
+        self.prev = self.prev_pending.take();
+        Ok(())
+    }
+}

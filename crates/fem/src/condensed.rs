@@ -1,0 +1,782 @@
+//! A direct solver for matrices that change only on a small set of dofs Γ
+//! (the dofs of the interface elements): the rest is condensed out once.
+//!
+//! Why: in a contact Newton loop the bulk stiffness never changes; only the
+//! interface points' tangents do, on a few thousand dofs out of 10⁵–10⁶. A
+//! sparse refactorisation per status change (or a low-rank correction whose
+//! columns are sparse solves of the whole system) then costs the whole
+//! mesh at every iteration.
+//!
+//! With I the other dofs, the matrix in blocks is
+//!
+//! ```text
+//!   A = [A_II  A_IΓ]      S = A_ΓΓ − C,   C = A_ΓI A_II⁻¹ A_IΓ
+//!       [A_ΓI  A_ΓΓ]
+//! ```
+//!
+//! `A_II` is factorised (sparse Cholesky) and the dense `C` (m × m, m = |Γ|)
+//! is computed once, in blocks of multi-column solves; they are reused as
+//! long as the rows and columns of I keep their values (checked bitwise at
+//! every solve). A system is then solved by
+//!
+//! ```text
+//!   y = A_II⁻¹ b_I,   S x_Γ = b_Γ − A_ΓI y,   x_I = y − A_II⁻¹ A_IΓ x_Γ
+//! ```
+//!
+//! and the dense Schur system is handled like [`crate::UpdatedCholesky`]
+//! handles the sparse one: a dense Cholesky factor of S is reused for a
+//! later S that differs in few rows and columns of Γ, with a Woodbury
+//! correction whose columns S⁻¹ e_g are dense solves (cached), refined
+//! against the new S; a larger change factorises S again.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt;
+use faer::{MatMut, MatRef, Par};
+use nalgebra::{DMatrix, DVector};
+
+use crate::error::FemError;
+use crate::pattern::{CsrMatrix, SparsityPattern};
+use crate::solver::CholeskySolver;
+use crate::update::{SolveKind, UpdateStats};
+
+/// Rounds of iterative refinement of a corrected Schur solution.
+const REFINEMENTS: usize = 4;
+
+/// Largest right-hand-side block of the multi-column solves that build C,
+/// in stored values (64 MB).
+const BLOCK_VALUES: usize = 1 << 23;
+
+/// Schur systems from this size on are factorised and solved on all threads.
+const DENSE_PARALLEL_MIN: usize = 384;
+
+/// Sparse Cholesky of the condensed-out dofs and dense Cholesky of the
+/// Schur complement on Γ, with low-rank reuse of the latter.
+#[derive(Debug)]
+pub struct CondensedCholesky {
+    n: usize,
+    /// Γ dofs, sorted.
+    gamma: Vec<usize>,
+    /// I dofs, sorted.
+    interior: Vec<usize>,
+    /// Sparse Cholesky of A_II (pattern renumbered to I positions).
+    ii: CholeskySolver,
+    /// Slot in the full matrix of every stored entry of A_II.
+    ii_slots: Vec<usize>,
+    /// Per Γ row: its entries in I columns (I position, slot), CSR-like.
+    gi_ptr: Vec<usize>,
+    gi_col: Vec<usize>,
+    gi_slot: Vec<usize>,
+    /// Per Γ row: its entries in Γ columns (Γ position, slot), CSR-like.
+    gg_ptr: Vec<usize>,
+    gg_col: Vec<usize>,
+    gg_slot: Vec<usize>,
+    /// Values of A_II and A_ΓI when C was built (None: not built yet).
+    constant_base: Option<Vec<f64>>,
+    /// C = A_ΓI A_II⁻¹ A_IΓ, m × m column-major.
+    c: Vec<f64>,
+    /// Values of A_ΓΓ (entries in `gg_slot` order) of the factorised S.
+    gg_base: Option<Vec<f64>>,
+    /// Dense Cholesky factor of S (lower triangle), m × m column-major.
+    factor: Vec<f64>,
+    /// S⁻¹ e_g of the Γ positions met so far in a change.
+    columns: BTreeMap<usize, Vec<f64>>,
+    max_rank: usize,
+    tolerance: f64,
+    stats: UpdateStats,
+    condensations: usize,
+}
+
+impl CondensedCholesky {
+    /// Splits `pattern` into the dofs `gamma` (those whose rows may change
+    /// from one solve to the next) and the rest, and analyses the rest.
+    /// Corrections of at most `max_rank` Γ dofs reuse the dense factor.
+    pub fn analyse(
+        pattern: Arc<SparsityPattern>,
+        gamma: &[usize],
+        max_rank: usize,
+    ) -> Result<Self, FemError> {
+        let n = pattern.n();
+        let mut gamma = gamma.to_vec();
+        gamma.sort_unstable();
+        gamma.dedup();
+        if let Some(&d) = gamma.iter().find(|&&d| d >= n) {
+            return Err(FemError::DofOutOfRange {
+                what: "condensation dofs".into(),
+                dof: d,
+                n_dofs: n,
+            });
+        }
+        const NONE: usize = usize::MAX;
+        let mut gpos = vec![NONE; n];
+        for (k, &d) in gamma.iter().enumerate() {
+            gpos[d] = k;
+        }
+        let interior: Vec<usize> = (0..n).filter(|&d| gpos[d] == NONE).collect();
+        let mut ipos = vec![NONE; n];
+        for (k, &d) in interior.iter().enumerate() {
+            ipos[d] = k;
+        }
+        let (ptr, idx) = (pattern.indptr(), pattern.indices());
+        // A_II: rows and columns of I, renumbered
+        let mut ii_ptr = Vec::with_capacity(interior.len() + 1);
+        let mut ii_idx = Vec::new();
+        let mut ii_slots = Vec::new();
+        ii_ptr.push(0);
+        for &d in &interior {
+            for k in ptr[d]..ptr[d + 1] {
+                let j = ipos[idx[k]];
+                if j != NONE {
+                    ii_idx.push(j);
+                    ii_slots.push(k);
+                }
+            }
+            ii_ptr.push(ii_idx.len());
+        }
+        let ii_pattern = Arc::new(SparsityPattern::from_csr(interior.len(), ii_ptr, ii_idx)?);
+        let (mut gi_ptr, mut gi_col, mut gi_slot) = (vec![0], Vec::new(), Vec::new());
+        let (mut gg_ptr, mut gg_col, mut gg_slot) = (vec![0], Vec::new(), Vec::new());
+        for &d in &gamma {
+            for k in ptr[d]..ptr[d + 1] {
+                let j = idx[k];
+                if gpos[j] != NONE {
+                    gg_col.push(gpos[j]);
+                    gg_slot.push(k);
+                } else {
+                    gi_col.push(ipos[j]);
+                    gi_slot.push(k);
+                }
+            }
+            gi_ptr.push(gi_col.len());
+            gg_ptr.push(gg_col.len());
+        }
+        let m = gamma.len();
+        Ok(CondensedCholesky {
+            n,
+            gamma,
+            interior,
+            ii: CholeskySolver::analyse_for_refactorisation(ii_pattern)?,
+            ii_slots,
+            gi_ptr,
+            gi_col,
+            gi_slot,
+            gg_ptr,
+            gg_col,
+            gg_slot,
+            constant_base: None,
+            c: vec![0.0; m * m],
+            gg_base: None,
+            factor: vec![0.0; m * m],
+            columns: BTreeMap::new(),
+            max_rank,
+            tolerance: 1e-10,
+            stats: UpdateStats::default(),
+            condensations: 0,
+        })
+    }
+
+    /// Number of Γ dofs (the size of the dense Schur system).
+    pub fn schur_size(&self) -> usize {
+        self.gamma.len()
+    }
+
+    /// How the systems so far were solved; a factorisation is one of the
+    /// dense Schur system (the condensations are counted apart).
+    pub fn stats(&self) -> UpdateStats {
+        self.stats
+    }
+
+    /// How many times A_II was factorised and C built.
+    pub fn condensations(&self) -> usize {
+        self.condensations
+    }
+
+    /// Solves `matrix · x = rhs` in place (rhs ← x). `matrix` must be
+    /// symmetric positive definite with the analysed pattern.
+    pub fn solve(&mut self, matrix: &CsrMatrix, rhs: &mut [f64]) -> Result<SolveKind, FemError> {
+        self.solve_within(matrix, rhs, 0.0)
+    }
+
+    /// [`CondensedCholesky::solve`], where a corrected Schur solution is
+    /// refined only until its residual is at most the larger of `accept`
+    /// (absolute) and 1e-10 of the right-hand side.
+    pub fn solve_within(
+        &mut self,
+        matrix: &CsrMatrix,
+        rhs: &mut [f64],
+        accept: f64,
+    ) -> Result<SolveKind, FemError> {
+        if matrix.n() != self.n || rhs.len() != self.n {
+            return Err(FemError::LengthMismatch {
+                what: "condensed system".into(),
+                got: rhs.len().min(matrix.n()),
+                expected: self.n,
+            });
+        }
+        let v = matrix.values();
+        if !self.constant_unchanged(v) {
+            self.condense(matrix)?;
+        }
+        let m = self.gamma.len();
+        // y = A_II⁻¹ b_I, s = b_Γ − A_ΓI y
+        let mut y: Vec<f64> = self.interior.iter().map(|&d| rhs[d]).collect();
+        self.ii.solve(&mut y)?;
+        let mut s: Vec<f64> = self.gamma.iter().map(|&d| rhs[d]).collect();
+        for (a, sa) in s.iter_mut().enumerate() {
+            for k in self.gi_ptr[a]..self.gi_ptr[a + 1] {
+                *sa -= v[self.gi_slot[k]] * y[self.gi_col[k]];
+            }
+        }
+        let gg: Vec<f64> = self.gg_slot.iter().map(|&k| v[k]).collect();
+        let kind = self.schur_solve(&gg, &mut s, accept)?;
+        // x_I = y − A_II⁻¹ A_IΓ x_Γ
+        let mut t = vec![0.0; self.interior.len()];
+        for (a, &xa) in s.iter().enumerate() {
+            if xa != 0.0 {
+                for k in self.gi_ptr[a]..self.gi_ptr[a + 1] {
+                    t[self.gi_col[k]] += v[self.gi_slot[k]] * xa;
+                }
+            }
+        }
+        self.ii.solve(&mut t)?;
+        for ((&d, yi), ti) in self.interior.iter().zip(&y).zip(&t) {
+            rhs[d] = yi - ti;
+        }
+        for (&d, &x) in self.gamma.iter().zip(&s) {
+            rhs[d] = x;
+        }
+        debug_assert_eq!(s.len(), m);
+        Ok(kind)
+    }
+
+    /// Condenses `matrix` (factorises A_II and builds C) unless its rows
+    /// and columns of I hold the values of the last condensation; true if
+    /// it condensed anew. For the Γ-space operations below.
+    pub fn prepare(&mut self, matrix: &CsrMatrix) -> Result<bool, FemError> {
+        if matrix.n() != self.n {
+            return Err(FemError::LengthMismatch {
+                what: "condensed system".into(),
+                got: matrix.n(),
+                expected: self.n,
+            });
+        }
+        if self.constant_unchanged(matrix.values()) {
+            return Ok(false);
+        }
+        self.condense(matrix)?;
+        Ok(true)
+    }
+
+    /// The Γ dofs, sorted (Γ position k is dof `gamma()[k]`).
+    pub fn gamma(&self) -> &[usize] {
+        &self.gamma
+    }
+
+    /// The condensed-out dofs I, sorted.
+    pub fn interior(&self) -> &[usize] {
+        &self.interior
+    }
+
+    /// The stored Γ × Γ entries, row by row: per Γ row `a` the entries
+    /// `ptr[a]..ptr[a + 1]`, each with its Γ column and its slot in the
+    /// full matrix. The Γ-space operations take A_ΓΓ as values in this
+    /// order.
+    pub fn gamma_entries(&self) -> (&[usize], &[usize], &[usize]) {
+        (&self.gg_ptr, &self.gg_col, &self.gg_slot)
+    }
+
+    /// Solves S x = s in place, S = A_ΓΓ − C with A_ΓΓ given as `gg`
+    /// (values in [`CondensedCholesky::gamma_entries`] order); the dense
+    /// factor is reused with a Woodbury correction as by
+    /// [`CondensedCholesky::solve_within`].
+    pub fn solve_schur(
+        &mut self,
+        gg: &[f64],
+        s: &mut [f64],
+        accept: f64,
+    ) -> Result<SolveKind, FemError> {
+        if self.constant_base.is_none() {
+            return Err(FemError::NotFactorised);
+        }
+        self.schur_solve(gg, s, accept)
+    }
+
+    /// S x, S = A_ΓΓ (values `gg`) − C.
+    pub fn mul_schur(&self, gg: &[f64], x: &[f64]) -> Vec<f64> {
+        self.schur_mul(gg, x)
+    }
+
+    /// x ← A_II⁻¹ x for a vector over I.
+    pub fn solve_interior(&self, x: &mut [f64]) -> Result<(), FemError> {
+        self.ii.solve(x)
+    }
+
+    /// A_ΓI y for a vector y over I (the values of the last condensation).
+    pub fn mul_gamma_interior(&self, y: &[f64]) -> Vec<f64> {
+        let gi = self.gi_values();
+        (0..self.gamma.len())
+            .map(|a| {
+                (self.gi_ptr[a]..self.gi_ptr[a + 1])
+                    .map(|k| gi[k] * y[self.gi_col[k]])
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// A_IΓ x for a vector x over Γ (the values of the last condensation).
+    pub fn mul_interior_gamma(&self, x: &[f64]) -> Vec<f64> {
+        let gi = self.gi_values();
+        let mut t = vec![0.0; self.interior.len()];
+        for (a, &xa) in x.iter().enumerate() {
+            if xa != 0.0 {
+                for k in self.gi_ptr[a]..self.gi_ptr[a + 1] {
+                    t[self.gi_col[k]] += gi[k] * xa;
+                }
+            }
+        }
+        t
+    }
+
+    /// Values of A_ΓI (in `gi` order) of the last condensation.
+    fn gi_values(&self) -> &[f64] {
+        self.constant_base
+            .as_deref()
+            .map_or(&[][..], |b| &b[self.ii_slots.len()..])
+    }
+
+    /// True if A_II and A_ΓI hold the values C was built with.
+    fn constant_unchanged(&self, v: &[f64]) -> bool {
+        let Some(base) = &self.constant_base else {
+            return false;
+        };
+        let bits = self
+            .ii_slots
+            .iter()
+            .chain(&self.gi_slot)
+            .zip(base)
+            .fold(0u64, |acc, (&k, b)| acc | (v[k].to_bits() ^ b.to_bits()));
+        bits == 0
+    }
+
+    /// Factorises A_II and builds C; the dense factor is dropped.
+    fn condense(&mut self, matrix: &CsrMatrix) -> Result<(), FemError> {
+        self.constant_base = None;
+        self.gg_base = None;
+        let v = matrix.values();
+        let mut sub = CsrMatrix::zeros(self.ii_pattern().clone());
+        for (x, &k) in sub.values_mut().iter_mut().zip(&self.ii_slots) {
+            *x = v[k];
+        }
+        self.ii.factorise(&sub).map_err(|e| match e {
+            FemError::NotPositiveDefinite { pivot, dof, hint } => FemError::NotPositiveDefinite {
+                pivot,
+                dof: self.interior.get(dof).copied().unwrap_or(dof),
+                hint,
+            },
+            other => other,
+        })?;
+        let (m, ni) = (self.gamma.len(), self.interior.len());
+        self.c.fill(0.0);
+        let block = (BLOCK_VALUES / ni.max(1)).clamp(1, 256).min(m.max(1));
+        let mut rhs = vec![0.0; ni * block];
+        let mut start = 0;
+        while start < m {
+            let cols = block.min(m - start);
+            let chunk = &mut rhs[..ni * cols];
+            chunk.fill(0.0);
+            // column g of A_IΓ is row g of A_ΓI (a symmetric matrix)
+            for c in 0..cols {
+                let g = start + c;
+                for k in self.gi_ptr[g]..self.gi_ptr[g + 1] {
+                    chunk[c * ni + self.gi_col[k]] = v[self.gi_slot[k]];
+                }
+            }
+            self.ii.solve_many(chunk, cols)?;
+            for c in 0..cols {
+                let y = &chunk[c * ni..(c + 1) * ni];
+                let col = &mut self.c[(start + c) * m..(start + c + 1) * m];
+                for (a, ca) in col.iter_mut().enumerate() {
+                    let mut acc = 0.0;
+                    for k in self.gi_ptr[a]..self.gi_ptr[a + 1] {
+                        acc += v[self.gi_slot[k]] * y[self.gi_col[k]];
+                    }
+                    *ca = acc;
+                }
+            }
+            start += cols;
+        }
+        // exact symmetry (the two triangles differ by round-off)
+        for j in 0..m {
+            for i in j + 1..m {
+                let avg = 0.5 * (self.c[j * m + i] + self.c[i * m + j]);
+                self.c[j * m + i] = avg;
+                self.c[i * m + j] = avg;
+            }
+        }
+        self.constant_base = Some(
+            self.ii_slots
+                .iter()
+                .chain(&self.gi_slot)
+                .map(|&k| v[k])
+                .collect(),
+        );
+        self.gg_base = None;
+        self.columns.clear();
+        self.condensations += 1;
+        if std::env::var("TECON_CONDENSED_DEBUG").is_ok() {
+            eprintln!("condensation {} (m = {m}, n_I = {ni})", self.condensations);
+        }
+        Ok(())
+    }
+
+    fn ii_pattern(&self) -> &Arc<SparsityPattern> {
+        self.ii.pattern()
+    }
+
+    /// Solves S x = s in place, S = A_ΓΓ (values `gg`) − C.
+    fn schur_solve(
+        &mut self,
+        gg: &[f64],
+        s: &mut [f64],
+        accept: f64,
+    ) -> Result<SolveKind, FemError> {
+        if let Some(changed) = self.changed_gamma(gg) {
+            if changed.is_empty() {
+                self.factor_solve(s);
+                self.stats.reused += 1;
+                return Ok(SolveKind::Reused);
+            }
+            let b = s.to_vec();
+            if changed.len() <= self.max_rank && self.refined_solve(gg, &changed, s, &b, accept) {
+                self.stats.corrected += 1;
+                return Ok(SolveKind::Corrected(changed.len()));
+            }
+            s.copy_from_slice(&b);
+        }
+        self.factorise(gg)?;
+        self.factor_solve(s);
+        Ok(SolveKind::Factorised)
+    }
+
+    /// Γ positions whose rows differ from the factorised S (None: nothing
+    /// factorised, or a change that is not symmetric in its dofs).
+    fn changed_gamma(&self, gg: &[f64]) -> Option<Vec<usize>> {
+        let base = self.gg_base.as_ref()?;
+        let m = self.gamma.len();
+        let rows: Vec<usize> = (0..m)
+            .filter(|&a| {
+                (self.gg_ptr[a]..self.gg_ptr[a + 1])
+                    .any(|k| gg[k].to_bits() != base[k].to_bits() && gg[k] != base[k])
+            })
+            .collect();
+        for &a in &rows {
+            for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
+                if gg[k] != base[k] && rows.binary_search(&self.gg_col[k]).is_err() {
+                    return None;
+                }
+            }
+        }
+        Some(rows)
+    }
+
+    fn par(&self) -> Par {
+        if self.gamma.len() >= DENSE_PARALLEL_MIN {
+            faer::get_global_parallelism()
+        } else {
+            Par::Seq
+        }
+    }
+
+    /// Dense Cholesky of S = A_ΓΓ − C.
+    fn factorise(&mut self, gg: &[f64]) -> Result<(), FemError> {
+        let m = self.gamma.len();
+        for (f, c) in self.factor.iter_mut().zip(&self.c) {
+            *f = -c;
+        }
+        for a in 0..m {
+            for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
+                self.factor[self.gg_col[k] * m + a] += gg[k];
+            }
+        }
+        self.gg_base = None;
+        self.columns.clear();
+        let par = self.par();
+        let req = llt::factor::cholesky_in_place_scratch::<f64>(m, par, Default::default());
+        let mut buf = MemBuffer::try_new(req)
+            .map_err(|_| FemError::Solver("out of memory for the Schur factorisation".into()))?;
+        let res = llt::factor::cholesky_in_place(
+            MatMut::from_column_major_slice_mut(&mut self.factor, m, m),
+            Default::default(),
+            par,
+            MemStack::new(&mut buf),
+            Default::default(),
+        );
+        if let Err(llt::factor::LltError::NonPositivePivot { index }) = res {
+            return Err(FemError::NotPositiveDefinite {
+                pivot: index,
+                dof: self.gamma.get(index).copied().unwrap_or(index),
+                hint: "check for an unconstrained body or an indefinite tangent (use LU)".into(),
+            });
+        }
+        self.gg_base = Some(gg.to_vec());
+        self.stats.factorisations += 1;
+        Ok(())
+    }
+
+    /// Solves with the dense factor, `k` columns stored one after another.
+    fn factor_solve_many(&self, x: &mut [f64], k: usize) {
+        let m = self.gamma.len();
+        if m == 0 || k == 0 {
+            return;
+        }
+        let par = self.par();
+        let mut buf = MemBuffer::new(llt::solve::solve_in_place_scratch::<f64>(m, k, par));
+        llt::solve::solve_in_place(
+            MatRef::from_column_major_slice(&self.factor, m, m),
+            MatMut::from_column_major_slice_mut(x, m, k),
+            par,
+            MemStack::new(&mut buf),
+        );
+    }
+
+    fn factor_solve(&self, x: &mut [f64]) {
+        self.factor_solve_many(x, 1);
+    }
+
+    /// S x with S = A_ΓΓ (values `gg`) − C.
+    fn schur_mul(&self, gg: &[f64], x: &[f64]) -> Vec<f64> {
+        let m = self.gamma.len();
+        let mut y = vec![0.0; m];
+        for (j, &xj) in x.iter().enumerate() {
+            if xj != 0.0 {
+                for (yi, cij) in y.iter_mut().zip(&self.c[j * m..(j + 1) * m]) {
+                    *yi -= cij * xj;
+                }
+            }
+        }
+        for (a, ya) in y.iter_mut().enumerate() {
+            for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
+                *ya += gg[k] * x[self.gg_col[k]];
+            }
+        }
+        y
+    }
+
+    /// Woodbury solve refined against the new S; true if the residual
+    /// reached the tolerance (or `accept`, absolute, if larger).
+    fn refined_solve(
+        &mut self,
+        gg: &[f64],
+        changed: &[usize],
+        x: &mut [f64],
+        b: &[f64],
+        accept: f64,
+    ) -> bool {
+        if !self.corrected_solve(gg, changed, x) {
+            return false;
+        }
+        let target = (self.tolerance * norm(b).max(f64::MIN_POSITIVE)).max(accept);
+        for _ in 0..REFINEMENTS {
+            let sx = self.schur_mul(gg, x);
+            let mut r: Vec<f64> = b.iter().zip(&sx).map(|(p, q)| p - q).collect();
+            if norm(&r) <= target {
+                return true;
+            }
+            if !self.corrected_solve(gg, changed, &mut r) {
+                return false;
+            }
+            for (xi, d) in x.iter_mut().zip(&r) {
+                *xi += d;
+            }
+        }
+        let sx = self.schur_mul(gg, x);
+        norm(&b.iter().zip(&sx).map(|(p, q)| p - q).collect::<Vec<_>>()) <= target
+    }
+
+    /// x ← S⁻¹ x by the factorised S and a Woodbury correction on
+    /// `changed`; false if the small system is singular.
+    fn corrected_solve(&mut self, gg: &[f64], changed: &[usize], x: &mut [f64]) -> bool {
+        let Some(base) = &self.gg_base else {
+            return false;
+        };
+        let m = self.gamma.len();
+        let r = changed.len();
+        let mut dm = DMatrix::<f64>::zeros(r, r);
+        for (a, &g) in changed.iter().enumerate() {
+            for k in self.gg_ptr[g]..self.gg_ptr[g + 1] {
+                if let Ok(b) = changed.binary_search(&self.gg_col[k]) {
+                    dm[(a, b)] = gg[k] - base[k];
+                }
+            }
+        }
+        let new: Vec<usize> = changed
+            .iter()
+            .copied()
+            .filter(|g| !self.columns.contains_key(g))
+            .collect();
+        if !new.is_empty() {
+            let mut block = vec![0.0; m * new.len()];
+            for (c, &g) in new.iter().enumerate() {
+                block[c * m + g] = 1.0;
+            }
+            self.factor_solve_many(&mut block, new.len());
+            for (c, &g) in new.iter().enumerate() {
+                self.columns.insert(g, block[c * m..(c + 1) * m].to_vec());
+            }
+        }
+        self.factor_solve(x);
+        let cols: Vec<&Vec<f64>> = changed.iter().map(|g| &self.columns[g]).collect();
+        let wd = DMatrix::from_fn(r, r, |a, b| cols[b][changed[a]]);
+        let xd = DVector::from_iterator(r, changed.iter().map(|&g| x[g]));
+        let cap = DMatrix::<f64>::identity(r, r) + &dm * &wd;
+        let Some(z) = cap.lu().solve(&(&dm * xd)) else {
+            return false;
+        };
+        for (b, col) in cols.iter().enumerate() {
+            let zb = z[b];
+            if zb != 0.0 {
+                for (xi, w) in x.iter_mut().zip(col.iter()) {
+                    *xi -= w * zb;
+                }
+            }
+        }
+        true
+    }
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2D 5-point Laplacian on a k × k grid with a shift: SPD, n = k².
+    fn grid(k: usize) -> CsrMatrix {
+        let n = k * k;
+        let mut pairs = Vec::new();
+        for i in 0..k {
+            for j in 0..k {
+                let p = i * k + j;
+                if j + 1 < k {
+                    pairs.extend([p, p + 1]);
+                }
+                if i + 1 < k {
+                    pairs.extend([p, p + k]);
+                }
+            }
+        }
+        let pattern = Arc::new(SparsityPattern::from_blocks(n, &[(2, &pairs)]).unwrap());
+        let mut m = CsrMatrix::zeros(pattern);
+        for p in 0..n {
+            set(&mut m, p, p, 4.2);
+            for q in [p + 1, p + k] {
+                if q < n && m.pattern().slot(p, q).is_some() {
+                    set(&mut m, p, q, -1.0);
+                    set(&mut m, q, p, -1.0);
+                }
+            }
+        }
+        m
+    }
+
+    fn set(m: &mut CsrMatrix, i: usize, j: usize, v: f64) {
+        let k = m.pattern().slot(i, j).unwrap();
+        m.values_mut()[k] = v;
+    }
+
+    fn add(m: &mut CsrMatrix, i: usize, j: usize, d: f64) {
+        let v = m.get(i, j);
+        set(m, i, j, v + d);
+    }
+
+    fn solve_fresh(m: &CsrMatrix, b: &[f64]) -> Vec<f64> {
+        let mut c = CholeskySolver::analyse(m.pattern().clone()).unwrap();
+        c.factorise(m).unwrap();
+        let mut x = b.to_vec();
+        c.solve(&mut x).unwrap();
+        x
+    }
+
+    fn max_err(x: &[f64], y: &[f64]) -> f64 {
+        x.iter()
+            .zip(y)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn condensed_solves_match_fresh_factorisations_through_changes_on_gamma() {
+        let k = 20;
+        let a = grid(k);
+        let n = k * k;
+        // Γ: the middle row of the grid (an "interface" across the domain)
+        let gamma: Vec<usize> = (0..k).map(|j| (k / 2) * k + j).collect();
+        let b: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64) - 5.0).collect();
+        let mut s = CondensedCholesky::analyse(a.pattern().clone(), &gamma, 4).unwrap();
+        assert_eq!(s.schur_size(), k);
+        let mut x = b.clone();
+        assert_eq!(s.solve(&a, &mut x).unwrap(), SolveKind::Factorised);
+        let exact = solve_fresh(&a, &b);
+        let scale = exact.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        assert!(max_err(&x, &exact) < 1e-13 * scale);
+        let mut x = b.clone();
+        assert_eq!(s.solve(&a, &mut x).unwrap(), SolveKind::Reused);
+        // a stiff spring between two Γ dofs: corrected
+        let (g1, g2) = (gamma[3], gamma[4]);
+        let mut a2 = a.clone();
+        for (i, j, d) in [(g1, g1, 1e6), (g2, g2, 1e6), (g1, g2, -1e6), (g2, g1, -1e6)] {
+            add(&mut a2, i, j, d);
+        }
+        let mut x = b.clone();
+        assert_eq!(s.solve(&a2, &mut x).unwrap(), SolveKind::Corrected(2));
+        // a corrected solve is refined to 1e-10 of the right-hand side
+        let r = crate::solver::relative_residual(&a2, &x, &b);
+        assert!(r < 1e-10, "{r:e}");
+        // more than 4 Γ dofs change: the Schur system is factorised again
+        let mut a3 = a2.clone();
+        for &g in &gamma[8..14] {
+            add(&mut a3, g, g, 3.0);
+        }
+        let mut x = b.clone();
+        assert_eq!(s.solve(&a3, &mut x).unwrap(), SolveKind::Factorised);
+        let exact = solve_fresh(&a3, &b);
+        // (the stiff spring makes the condition number about 1e6)
+        assert!(
+            max_err(&x, &exact) < 1e-9 * scale,
+            "{:e}",
+            max_err(&x, &exact)
+        );
+        assert_eq!(s.condensations(), 1);
+        // a change off Γ: condensed again
+        let mut a4 = a3.clone();
+        add(&mut a4, 0, 0, 1.0);
+        let mut x = b.clone();
+        assert_eq!(s.solve(&a4, &mut x).unwrap(), SolveKind::Factorised);
+        assert_eq!(s.condensations(), 2);
+        let exact = solve_fresh(&a4, &b);
+        // (the stiff spring makes the condition number about 1e6)
+        assert!(
+            max_err(&x, &exact) < 1e-9 * scale,
+            "{:e}",
+            max_err(&x, &exact)
+        );
+    }
+
+    #[test]
+    fn an_indefinite_schur_system_names_a_gamma_dof() {
+        let k = 6;
+        let mut a = grid(k);
+        let gamma = [14usize, 15];
+        add(&mut a, 15, 15, -10.0);
+        let mut s = CondensedCholesky::analyse(a.pattern().clone(), &gamma, 4).unwrap();
+        let mut x = vec![1.0; k * k];
+        match s.solve(&a, &mut x) {
+            Err(FemError::NotPositiveDefinite { dof, .. }) => assert!(gamma.contains(&dof)),
+            other => panic!("{other:?}"),
+        }
+    }
+}
