@@ -15,7 +15,8 @@
 //! ```
 //!
 //! `A_II` is factorised (sparse Cholesky) and the dense `C` (m × m, m = |Γ|)
-//! is computed once, in blocks of multi-column solves; they are reused as
+//! is computed once, from a second factorisation of A that eliminates I
+//! before Γ (its trailing block is the factor of S); they are reused as
 //! long as the rows and columns of I keep their values (checked bitwise at
 //! every solve). A system is then solved by
 //!
@@ -39,15 +40,15 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::FemError;
 use crate::pattern::{CsrMatrix, SparsityPattern};
-use crate::solver::CholeskySolver;
+use crate::solver::{CholeskySolver, schur_complement};
 use crate::update::{SolveKind, UpdateStats};
 
 /// Rounds of iterative refinement of a corrected Schur solution.
 const REFINEMENTS: usize = 4;
 
-/// Largest right-hand-side block of the multi-column solves that build C,
-/// in stored values (64 MB).
-const BLOCK_VALUES: usize = 1 << 23;
+/// Shift of the Γ diagonal, relative to its largest entry, while S is
+/// factorised (S is only semidefinite for a body held by Γ alone).
+const SCHUR_SHIFT: f64 = 1e-8;
 
 /// Schur systems from this size on are factorised and solved on all threads.
 const DENSE_PARALLEL_MIN: usize = 384;
@@ -230,7 +231,7 @@ impl CondensedCholesky {
             }
         }
         let gg: Vec<f64> = self.gg_slot.iter().map(|&k| v[k]).collect();
-        let kind = self.schur_solve(&gg, &mut s, accept)?;
+        let (kind, _) = self.schur_solve(&gg, &mut s, accept)?;
         // x_I = y − A_II⁻¹ A_IΓ x_Γ
         let mut t = vec![0.0; self.interior.len()];
         for (a, &xa) in s.iter().enumerate() {
@@ -290,17 +291,21 @@ impl CondensedCholesky {
     /// Solves S x = s in place, S = A_ΓΓ − C with A_ΓΓ given as `gg`
     /// (values in [`CondensedCholesky::gamma_entries`] order); the dense
     /// factor is reused with a Woodbury correction as by
-    /// [`CondensedCholesky::solve_within`].
+    /// [`CondensedCholesky::solve_within`]. Also returns S x: the product
+    /// the refinement checked, or the right-hand side after a solve with a
+    /// factor of S itself (equal to within its backward error).
     pub fn solve_schur(
         &mut self,
         gg: &[f64],
         s: &mut [f64],
         accept: f64,
-    ) -> Result<SolveKind, FemError> {
+    ) -> Result<(SolveKind, Vec<f64>), FemError> {
         if self.constant_base.is_none() {
             return Err(FemError::NotFactorised);
         }
-        self.schur_solve(gg, s, accept)
+        let b = s.to_vec();
+        let (kind, sx) = self.schur_solve(gg, s, accept)?;
+        Ok((kind, sx.unwrap_or(b)))
     }
 
     /// S x, S = A_ΓΓ (values `gg`) − C.
@@ -377,35 +382,30 @@ impl CondensedCholesky {
             },
             other => other,
         })?;
-        let (m, ni) = (self.gamma.len(), self.interior.len());
-        self.c.fill(0.0);
-        let block = (BLOCK_VALUES / ni.max(1)).clamp(1, 256).min(m.max(1));
-        let mut rhs = vec![0.0; ni * block];
-        let mut start = 0;
-        while start < m {
-            let cols = block.min(m - start);
-            let chunk = &mut rhs[..ni * cols];
-            chunk.fill(0.0);
-            // column g of A_IΓ is row g of A_ΓI (a symmetric matrix)
-            for c in 0..cols {
-                let g = start + c;
-                for k in self.gi_ptr[g]..self.gi_ptr[g + 1] {
-                    chunk[c * ni + self.gi_col[k]] = v[self.gi_slot[k]];
-                }
+        let m = self.gamma.len();
+        // C = A_ΓΓ − S, with S from one factorisation that eliminates I (in
+        // A_II's own order) before Γ
+        let order: Vec<usize> = self
+            .ii
+            .ordering()
+            .into_iter()
+            .map(|k| self.interior[k])
+            .collect();
+        let max_diag = self
+            .gamma
+            .iter()
+            .filter_map(|&d| matrix.pattern().slot(d, d))
+            .map(|k| v[k].abs())
+            .fold(0.0, f64::max);
+        let shift = (SCHUR_SHIFT * max_diag).max(f64::MIN_POSITIVE);
+        let schur = schur_complement(matrix, &order, &self.gamma, shift)?;
+        for (c, s) in self.c.iter_mut().zip(&schur) {
+            *c = -s;
+        }
+        for a in 0..m {
+            for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
+                self.c[self.gg_col[k] * m + a] += v[self.gg_slot[k]];
             }
-            self.ii.solve_many(chunk, cols)?;
-            for c in 0..cols {
-                let y = &chunk[c * ni..(c + 1) * ni];
-                let col = &mut self.c[(start + c) * m..(start + c + 1) * m];
-                for (a, ca) in col.iter_mut().enumerate() {
-                    let mut acc = 0.0;
-                    for k in self.gi_ptr[a]..self.gi_ptr[a + 1] {
-                        acc += v[self.gi_slot[k]] * y[self.gi_col[k]];
-                    }
-                    *ca = acc;
-                }
-            }
-            start += cols;
         }
         // exact symmetry (the two triangles differ by round-off)
         for j in 0..m {
@@ -426,7 +426,11 @@ impl CondensedCholesky {
         self.columns.clear();
         self.condensations += 1;
         if std::env::var("TECON_CONDENSED_DEBUG").is_ok() {
-            eprintln!("condensation {} (m = {m}, n_I = {ni})", self.condensations);
+            eprintln!(
+                "condensation {} (m = {m}, n_I = {})",
+                self.condensations,
+                self.interior.len()
+            );
         }
         Ok(())
     }
@@ -441,23 +445,25 @@ impl CondensedCholesky {
         gg: &[f64],
         s: &mut [f64],
         accept: f64,
-    ) -> Result<SolveKind, FemError> {
+    ) -> Result<(SolveKind, Option<Vec<f64>>), FemError> {
         if let Some(changed) = self.changed_gamma(gg) {
             if changed.is_empty() {
                 self.factor_solve(s);
                 self.stats.reused += 1;
-                return Ok(SolveKind::Reused);
+                return Ok((SolveKind::Reused, None));
             }
             let b = s.to_vec();
-            if changed.len() <= self.max_rank && self.refined_solve(gg, &changed, s, &b, accept) {
-                self.stats.corrected += 1;
-                return Ok(SolveKind::Corrected(changed.len()));
+            if changed.len() <= self.max_rank {
+                if let Some(sx) = self.refined_solve(gg, &changed, s, &b, accept) {
+                    self.stats.corrected += 1;
+                    return Ok((SolveKind::Corrected(changed.len()), Some(sx)));
+                }
             }
             s.copy_from_slice(&b);
         }
         self.factorise(gg)?;
         self.factor_solve(s);
-        Ok(SolveKind::Factorised)
+        Ok((SolveKind::Factorised, None))
     }
 
     /// Γ positions whose rows differ from the factorised S (None: nothing
@@ -545,26 +551,30 @@ impl CondensedCholesky {
         self.factor_solve_many(x, 1);
     }
 
-    /// S x with S = A_ΓΓ (values `gg`) − C.
+    /// S x with S = A_ΓΓ (values `gg`) − C. C is symmetric, so entry a of
+    /// C x is column a of C dotted with x: contiguous, one task per block
+    /// of columns, each dot in a fixed order (the same bits on any number
+    /// of threads).
     fn schur_mul(&self, gg: &[f64], x: &[f64]) -> Vec<f64> {
+        use rayon::prelude::*;
         let m = self.gamma.len();
         let mut y = vec![0.0; m];
-        for (j, &xj) in x.iter().enumerate() {
-            if xj != 0.0 {
-                for (yi, cij) in y.iter_mut().zip(&self.c[j * m..(j + 1) * m]) {
-                    *yi -= cij * xj;
+        y.par_chunks_mut(SCHUR_MUL_CHUNK)
+            .enumerate()
+            .for_each(|(c, out)| {
+                for (i, ya) in out.iter_mut().enumerate() {
+                    let a = c * SCHUR_MUL_CHUNK + i;
+                    let mut acc = -dot8(&self.c[a * m..(a + 1) * m], x);
+                    for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
+                        acc += gg[k] * x[self.gg_col[k]];
+                    }
+                    *ya = acc;
                 }
-            }
-        }
-        for (a, ya) in y.iter_mut().enumerate() {
-            for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
-                *ya += gg[k] * x[self.gg_col[k]];
-            }
-        }
+            });
         y
     }
 
-    /// Woodbury solve refined against the new S; true if the residual
+    /// Woodbury solve refined against the new S; S x if the residual
     /// reached the tolerance (or `accept`, absolute, if larger).
     fn refined_solve(
         &mut self,
@@ -573,26 +583,27 @@ impl CondensedCholesky {
         x: &mut [f64],
         b: &[f64],
         accept: f64,
-    ) -> bool {
+    ) -> Option<Vec<f64>> {
         if !self.corrected_solve(gg, changed, x) {
-            return false;
+            return None;
         }
         let target = (self.tolerance * norm(b).max(f64::MIN_POSITIVE)).max(accept);
         for _ in 0..REFINEMENTS {
             let sx = self.schur_mul(gg, x);
             let mut r: Vec<f64> = b.iter().zip(&sx).map(|(p, q)| p - q).collect();
             if norm(&r) <= target {
-                return true;
+                return Some(sx);
             }
             if !self.corrected_solve(gg, changed, &mut r) {
-                return false;
+                return None;
             }
             for (xi, d) in x.iter_mut().zip(&r) {
                 *xi += d;
             }
         }
         let sx = self.schur_mul(gg, x);
-        norm(&b.iter().zip(&sx).map(|(p, q)| p - q).collect::<Vec<_>>()) <= target
+        let r: Vec<f64> = b.iter().zip(&sx).map(|(p, q)| p - q).collect();
+        (norm(&r) <= target).then_some(sx)
     }
 
     /// x ← S⁻¹ x by the factorised S and a Woodbury correction on
@@ -644,6 +655,26 @@ impl CondensedCholesky {
         }
         true
     }
+}
+
+/// Columns of C per task of [`CondensedCholesky::schur_mul`].
+const SCHUR_MUL_CHUNK: usize = 64;
+
+/// Dot product with eight partial sums (vectorises; a fixed order).
+fn dot8(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 8];
+    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (p, q) in ca.zip(cb) {
+        for l in 0..8 {
+            acc[l] += p[l] * q[l];
+        }
+    }
+    let mut tail = 0.0;
+    for (p, q) in ra.iter().zip(rb) {
+        tail += p * q;
+    }
+    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
 }
 
 fn norm(v: &[f64]) -> f64 {

@@ -148,6 +148,15 @@ impl CholeskySolver {
         }
     }
 
+    /// The elimination order of the analysis (the dof eliminated k-th is
+    /// `ordering()[k]`).
+    pub fn ordering(&self) -> Vec<usize> {
+        match self.symbolic.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..self.pattern.n()).collect(),
+        }
+    }
+
     /// The analysed pattern.
     pub fn pattern(&self) -> &std::sync::Arc<SparsityPattern> {
         &self.pattern
@@ -238,6 +247,123 @@ impl CholeskySolver {
         );
         check_finite("solution", rhs)
     }
+}
+
+/// The Schur complement S = A_ΓΓ − A_ΓI A_II⁻¹ A_IΓ of a symmetric
+/// positive semidefinite `matrix` onto the dofs `gamma`, by one sparse
+/// Cholesky factorisation with the other dofs eliminated first, in the
+/// order `interior` (an elimination order of A_II, e.g. its AMD ordering),
+/// and Γ last: the trailing block of the factor is then the Cholesky
+/// factor of S. `shift` (> 0, added to the Γ diagonal and taken off S
+/// again) keeps the trailing block definite when S is only semidefinite (a
+/// body held by the Γ dofs alone). S is returned dense, m × m column-major.
+pub fn schur_complement(
+    matrix: &CsrMatrix,
+    interior: &[usize],
+    gamma: &[usize],
+    shift: f64,
+) -> Result<Vec<f64>, FemError> {
+    use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+    use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+    let pattern = matrix.pattern();
+    let n = pattern.n();
+    let (ni, m) = (interior.len(), gamma.len());
+    if ni + m != n {
+        return Err(FemError::LengthMismatch {
+            what: "Schur complement dofs".into(),
+            got: ni + m,
+            expected: n,
+        });
+    }
+    let fwd: Vec<usize> = interior.iter().chain(gamma).copied().collect();
+    let mut inv = vec![usize::MAX; n];
+    for (k, &d) in fwd.iter().enumerate() {
+        if d >= n || inv[d] != usize::MAX {
+            return Err(FemError::Solver(
+                "Schur complement dofs are not a permutation".into(),
+            ));
+        }
+        inv[d] = k;
+    }
+    let perm = faer::perm::PermRef::new_checked(&fwd, &inv, n);
+    let symbolic = factorize_symbolic_cholesky(
+        symbolic_view(pattern),
+        Side::Lower,
+        SymmetricOrdering::Custom(perm),
+        CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| FemError::Solver(format!("{e:?}")))?;
+    let mut values = matrix.values().to_vec();
+    for &d in gamma {
+        let k = pattern
+            .slot(d, d)
+            .ok_or_else(|| FemError::Solver(format!("no diagonal entry at dof {d}")))?;
+        values[k] += shift;
+    }
+    check_finite("matrix", &values)?;
+    let mut l_values = vec![0.0; symbolic.len_val()];
+    let p = par(n);
+    let req = symbolic.factorize_numeric_llt_scratch::<f64>(p, Default::default());
+    let mut mem = scratch(req)?;
+    if let Err(faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }) = symbolic
+        .factorize_numeric_llt(
+            &mut l_values,
+            SparseColMatRef::new(symbolic_view(pattern), &values),
+            Side::Lower,
+            LltRegularization::default(),
+            p,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+    {
+        return Err(FemError::NotPositiveDefinite {
+            pivot: index,
+            dof: fwd.get(index).copied().unwrap_or(index),
+            hint: "check for an unconstrained body".into(),
+        });
+    }
+    let SymbolicCholeskyRaw::Supernodal(sym) = symbolic.raw() else {
+        return Err(FemError::Solver("expected a supernodal factor".into()));
+    };
+    // the trailing m × m block of L (lower triangle), column-major
+    let mut l = vec![0.0; m * m];
+    let llt = SupernodalLltRef::<'_, usize, f64>::new(sym, &l_values);
+    for s in 0..sym.n_supernodes() {
+        let node = llt.supernode(s);
+        let (start, val, below) = (node.start(), node.val(), node.pattern());
+        let width = val.ncols();
+        for j in 0..width {
+            let col = start + j;
+            if col < ni {
+                continue;
+            }
+            let jl = col - ni;
+            for i in j..width {
+                l[jl * m + (start + i - ni)] = val[(i, j)];
+            }
+            for (q, &row) in below.iter().enumerate() {
+                l[jl * m + (row - ni)] = val[(width + q, j)];
+            }
+        }
+    }
+    // S = L Lᵀ − shift I
+    let lm = faer::MatRef::from_column_major_slice(&l, m, m);
+    let mut out = vec![0.0; m * m];
+    faer::linalg::matmul::matmul(
+        faer::MatMut::from_column_major_slice_mut(&mut out, m, m),
+        faer::Accum::Replace,
+        lm,
+        lm.transpose(),
+        1.0,
+        faer::get_global_parallelism(),
+    );
+    for a in 0..m {
+        out[a * m + a] -= shift;
+    }
+    Ok(out)
 }
 
 /// Sparse LU with partial pivoting of a general square matrix.

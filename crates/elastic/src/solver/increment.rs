@@ -159,46 +159,49 @@ impl StaticSolver<'_> {
         // state set the accepted pass started from.
         let (start, history) = loop {
             let pass = passes.len() + 1;
-            let (u_new, history) = match self.newton(&f_ext, loads, &committed, u.clone(), pass) {
-                Ok(r) => r,
-                // A pass after an outer update that fails: the update moved
-                // the friction limits too far for Newton (high friction: a
-                // stick zone appears at once where everything slipped).
-                // The load cannot be cut (from an unloaded state the problem
-                // is the same at every load fraction), the update can: the
-                // limits go halfway back towards those of the last converged
-                // pass, and every later update is under-relaxed. The fixed
-                // point, and so the answer, is the same.
-                Err(ElasticError::NotConverged { history, .. })
-                    if frozen_friction && outer_cuts < MAX_OUTER_CUTS && last_start.is_some() =>
-                {
-                    total_iterations += history.len();
-                    max_pass = max_pass.max(history.len());
-                    passes.push(history);
-                    if let Some(prev) = &last_start {
-                        relax_friction(prev, &mut committed);
+            let (u_new, history) =
+                match self.newton_pass(&f_ext, loads, &committed, u.clone(), pass) {
+                    Ok(r) => r,
+                    // A pass after an outer update that fails: the update moved
+                    // the friction limits too far for Newton (high friction: a
+                    // stick zone appears at once where everything slipped).
+                    // The load cannot be cut (from an unloaded state the problem
+                    // is the same at every load fraction), the update can: the
+                    // limits go halfway back towards those of the last converged
+                    // pass, and every later update is under-relaxed. The fixed
+                    // point, and so the answer, is the same.
+                    Err(ElasticError::NotConverged { history, .. })
+                        if frozen_friction
+                            && outer_cuts < MAX_OUTER_CUTS
+                            && last_start.is_some() =>
+                    {
+                        total_iterations += history.len();
+                        max_pass = max_pass.max(history.len());
+                        passes.push(history);
+                        if let Some(prev) = &last_start {
+                            relax_friction(prev, &mut committed);
+                        }
+                        relaxing = true;
+                        outer_cuts += 1;
+                        continue;
                     }
-                    relaxing = true;
-                    outer_cuts += 1;
-                    continue;
-                }
-                // the failed pass comes with the passes before it
-                Err(ElasticError::NotConverged {
-                    reason, history, ..
-                }) => {
-                    let mut all: Vec<IterationRecord> = passes.concat();
-                    all.extend(history);
-                    return Err(super::newton::failure(
-                        if pass > 1 {
-                            format!("{reason} (pass {pass})")
-                        } else {
-                            reason
-                        },
-                        all,
-                    ));
-                }
-                Err(e) => return Err(e),
-            };
+                    // the failed pass comes with the passes before it
+                    Err(ElasticError::NotConverged {
+                        reason, history, ..
+                    }) => {
+                        let mut all: Vec<IterationRecord> = passes.concat();
+                        all.extend(history);
+                        return Err(super::newton::failure(
+                            if pass > 1 {
+                                format!("{reason} (pass {pass})")
+                            } else {
+                                reason
+                            },
+                            all,
+                        ));
+                    }
+                    Err(e) => return Err(e),
+                };
             total_iterations += history.len();
             max_pass = max_pass.max(history.len());
             passes.push(history.clone());

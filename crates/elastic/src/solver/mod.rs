@@ -27,6 +27,7 @@
 //! `recovery` (stresses).
 
 mod assembly;
+mod condensed;
 mod front;
 mod increment;
 mod line_search;
@@ -47,9 +48,9 @@ pub use states::PointStates;
 
 use tecon_contact::ContactStatus;
 use tecon_fem::{
-    Assembler, AssemblerBuilder, BlockId, CondensedCholesky, CsrMatrix, Dirichlet, FemError,
-    LuSolver, Parallelism, PreparedDirichlet, RigidMode, UpdateStats, UpdatedCholesky,
-    check_rigid_modes, plane_rigid_modes,
+    Assembler, AssemblerBuilder, BlockId, CsrMatrix, Dirichlet, FemError, LuSolver, Parallelism,
+    PreparedDirichlet, RigidMode, UpdateStats, UpdatedCholesky, check_rigid_modes,
+    plane_rigid_modes,
 };
 
 use crate::error::ElasticError;
@@ -77,7 +78,11 @@ pub struct StaticSolver<'a> {
     rotations: Rotations,
     modes: Vec<RigidMode>,
     modes_checked: bool,
-    cholesky: Option<Factor>,
+    cholesky: Option<UpdatedCholesky>,
+    /// The bulk condensed onto the interface dofs (see `condensed`).
+    condensed: Option<condensed::Condensed>,
+    /// Condensation was tried and the interior was not positive definite.
+    condensed_failed: bool,
     /// Dofs of the interface elements' nodes: the only rows of the tangent
     /// that change within a contact solve.
     interface_dofs: Vec<usize>,
@@ -249,6 +254,8 @@ impl<'a> StaticSolver<'a> {
             modes,
             modes_checked: false,
             cholesky: None,
+            condensed: None,
+            condensed_failed: false,
             interface_dofs,
             lu: None,
             u: vec![0.0; n],
@@ -336,7 +343,7 @@ impl<'a> StaticSolver<'a> {
     pub fn solve_stats(&self) -> UpdateStats {
         self.cholesky
             .as_ref()
-            .map(Factor::stats)
+            .map(UpdatedCholesky::stats)
             .unwrap_or_default()
     }
 
@@ -435,7 +442,10 @@ impl<'a> StaticSolver<'a> {
         if symmetric {
             let c = match &mut self.cholesky {
                 Some(c) => c,
-                None => self.cholesky.insert(Factor::new(kt, &self.interface_dofs)?),
+                None => self.cholesky.insert(UpdatedCholesky::analyse(
+                    kt.pattern().clone(),
+                    MAX_UPDATE_RANK,
+                )?),
             };
             // a tangent that differs from the factorised one only where a
             // few interface points changed branch is solved by a low-rank
@@ -603,56 +613,6 @@ const STATUS_TRACTION_FLOOR: f64 = 1e-6;
 /// triangles), whole run: rank 8 → 8.0 s, 24 → 6.9 s, 48 → 7.7 s (noisy
 /// machine, ±20 %); 32 on the 99 144-triangle mesh gives 40.7 s.
 const MAX_UPDATE_RANK: usize = 32;
-
-/// The symmetric tangent's solver: the sparse factor with low-rank reuse,
-/// or the condensed form (bulk condensed once onto the interface dofs).
-#[derive(Debug)]
-enum Factor {
-    Sparse(UpdatedCholesky),
-    Condensed(CondensedCholesky),
-}
-
-impl Factor {
-    fn new(kt: &CsrMatrix, interface_dofs: &[usize]) -> Result<Factor, FemError> {
-        let m = interface_dofs.len();
-        let condensed = match std::env::var("TECON_CONDENSED").as_deref() {
-            Ok("1") => true,
-            Ok("0") => false,
-            _ => false,
-        };
-        Ok(if condensed && m > 0 {
-            Factor::Condensed(CondensedCholesky::analyse(
-                kt.pattern().clone(),
-                interface_dofs,
-                (m / 8).max(MAX_UPDATE_RANK),
-            )?)
-        } else {
-            Factor::Sparse(UpdatedCholesky::analyse(
-                kt.pattern().clone(),
-                MAX_UPDATE_RANK,
-            )?)
-        })
-    }
-
-    fn solve_within(
-        &mut self,
-        kt: &CsrMatrix,
-        rhs: &mut [f64],
-        accept: f64,
-    ) -> Result<tecon_fem::SolveKind, FemError> {
-        match self {
-            Factor::Sparse(f) => f.solve_within(kt, rhs, accept),
-            Factor::Condensed(f) => f.solve_within(kt, rhs, accept),
-        }
-    }
-
-    fn stats(&self) -> UpdateStats {
-        match self {
-            Factor::Sparse(f) => f.stats(),
-            Factor::Condensed(f) => f.stats(),
-        }
-    }
-}
 
 /// Status of an interface point and its sliding direction: 0 when it does
 /// not slide on a friction limit, +1 or −1 (the sign of the shear traction)

@@ -17,15 +17,7 @@ impl StaticSolver<'_> {
         mut u: Vec<f64>,
         pass: usize,
     ) -> Result<(Vec<f64>, Vec<IterationRecord>), ElasticError> {
-        // Prescribed values at this load level. A rotated node's constrained
-        // dof is its component along the constraint's normal, so the values
-        // are set in the rotated frame: writing 0 into the global x component
-        // of a node on a skew symmetry edge would move it off that edge.
-        self.rotations.rotate_vector(&mut u);
-        for (d, v) in self.dirichlet.iter() {
-            u[d] = v * loads.displacement;
-        }
-        self.rotations.unrotate_vector(&mut u);
+        self.impose_prescribed(&mut u, loads);
         let opts = self.options;
         let mut t = PassTracker::new(norm(f_ext), pass);
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
@@ -136,10 +128,24 @@ impl StaticSolver<'_> {
     }
 }
 
+impl StaticSolver<'_> {
+    /// Prescribed values at this load level. A rotated node's constrained
+    /// dof is its component along the constraint's normal, so the values
+    /// are set in the rotated frame: writing 0 into the global x component
+    /// of a node on a skew symmetry edge would move it off that edge.
+    pub(super) fn impose_prescribed(&self, u: &mut [f64], loads: &Loads) {
+        self.rotations.rotate_vector(u);
+        for (d, v) in self.dirichlet.iter() {
+            u[d] = v * loads.displacement;
+        }
+        self.rotations.unrotate_vector(u);
+    }
+}
+
 /// Shear stiffness of slipping joint points, as a fraction of k_s, in the
 /// fallback tangent of an iterate where a body is held by slipping points
 /// only (see [`StaticSolver::slip_stabilised_tangent`]).
-const SLIP_STABILISATION: f64 = 1e-6;
+pub(super) const SLIP_STABILISATION: f64 = 1e-6;
 
 /// Safety factor of the round-off floor over `ε · ‖ |K| |u| + |f| ‖` (the
 /// error of a sum of n terms grows like √n ε in practice, n ≤ ~30 per row
@@ -148,7 +154,7 @@ const ROUND_OFF_FACTOR: f64 = 64.0;
 
 /// Round-off floor of ‖R‖ = ‖f_ext − K u‖: `ε · ‖ |K| |u| + |f_ext| ‖`
 /// (row-wise sums of magnitudes), times [`ROUND_OFF_FACTOR`].
-fn round_off_floor(k: &CsrMatrix, u: &[f64], f_ext: &[f64]) -> f64 {
+pub(super) fn round_off_floor(k: &CsrMatrix, u: &[f64], f_ext: &[f64]) -> f64 {
     let (ptr, idx, val) = (k.pattern().indptr(), k.pattern().indices(), k.values());
     let s: f64 = (0..k.n())
         .map(|i| {
@@ -223,4 +229,4 @@ impl StaticSolver<'_> {
 
 /// Shortest exact line-search step for which a predicted step is kept
 /// (shorter: the prediction was far off, the exact Newton step is taken).
-const KEEP_PREDICTED_STEP: f64 = 0.5;
+pub(super) const KEEP_PREDICTED_STEP: f64 = 0.5;

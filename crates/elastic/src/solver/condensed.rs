@@ -1,0 +1,497 @@
+//! Newton passes on the interface dofs alone (static condensation).
+//!
+//! Why: the bulk is linear and its stiffness never changes; only the
+//! interface points' forces and tangents do, on the dofs Γ of the interface
+//! nodes (1 840 of 101 000 on `t1e5`). A full Newton iteration costs sparse
+//! solves and matrix passes over the whole mesh; on Γ it costs dense
+//! operations of size m = |Γ|.
+//!
+//! How: the bulk (rotated, with the homogeneous constraints) is condensed
+//! once per solver onto Γ ([`tecon_fem::CondensedCholesky`]): S = A_ΓΓ − C.
+//! A pass first puts the interior in equilibrium with the interface dofs
+//! (one solve with A_II: the residual on I becomes zero). As long as the
+//! interior follows the interface dofs (Δu_I = −A_II⁻¹ A_IΓ δ), the residual
+//! on I stays zero and the bulk residual on Γ is `r_b − S δ`, with δ the
+//! change of the interface dofs since the start of the pass. The pass then
+//! iterates on δ alone — statuses, convergence test, front prediction,
+//! damping and the exact energy line search as in the full pass
+//! ([`PassTracker`]) — and the interior is recovered once, at the end, by
+//! one more solve. The converged state is the same as the full pass's: the
+//! condensed equations are the full equations with the interior
+//! eliminated exactly.
+//!
+//! What differs: the iterates' interior dofs are always in equilibrium
+//! (the full pass takes them along the line-search step), so the path, and
+//! the iteration counts, can differ slightly; the force scale and the
+//! round-off floor of the convergence test are taken at the start of the
+//! pass (the interior forces equal the external ones within it).
+
+use tecon_contact::FrictionBound;
+use tecon_fem::{CondensedCholesky, FemError};
+
+use crate::error::{ElasticError, IterationRecord};
+
+use super::line_search::root_along_ray;
+use super::newton::{KEEP_PREDICTED_STEP, round_off_floor};
+use super::tracker::PassTracker;
+use super::*;
+
+/// Largest interface system condensed (dense m × m arrays, three of them:
+/// 1.5 GB at this size).
+const MAX_CONDENSED: usize = 8192;
+
+/// Condensation pays only when the bulk dofs outnumber the interface dofs
+/// by at least this factor.
+const MIN_RATIO: usize = 4;
+
+/// The bulk condensed onto the interface dofs.
+#[derive(Debug)]
+pub(super) struct Condensed {
+    chol: CondensedCholesky,
+    /// A_ΓΓ of the constrained, rotated bulk (in `gamma_entries` order);
+    /// the rows and columns of constrained Γ dofs are zero but for their
+    /// diagonal.
+    bulk_gg: Vec<f64>,
+    /// Constrained Γ positions.
+    fixed: Vec<bool>,
+    /// Full-pattern matrix the interface tangents are assembled into; only
+    /// its Γ × Γ entries are read (and zeroed before each assembly).
+    scratch: CsrMatrix,
+}
+
+/// How a condensed pass ended.
+pub(super) enum Outcome {
+    Done(Vec<f64>, Vec<IterationRecord>),
+    /// The Schur system lost positive definiteness (a body held by no
+    /// closed point): the full pass, which names the body or stabilises
+    /// the step, takes over.
+    FullPass,
+}
+
+impl StaticSolver<'_> {
+    /// True when this solver's passes can run condensed.
+    fn condensable(&self) -> bool {
+        let m = self.interface_dofs.len();
+        let frozen = self.options.friction_bound == FrictionBound::Frozen || !self.has_friction();
+        frozen
+            && m > 0
+            && m <= MAX_CONDENSED
+            && self.u.len() >= MIN_RATIO * m
+            && self
+                .interface_dofs
+                .iter()
+                .all(|&d| !self.rotations.contains(d / 2))
+            && condensation_wanted()
+    }
+
+    /// One Newton pass, condensed onto the interface dofs when it can be.
+    pub(super) fn newton_pass(
+        &mut self,
+        f_ext: &[f64],
+        loads: &Loads,
+        committed: &[PointStates],
+        mut u: Vec<f64>,
+        pass: usize,
+    ) -> Result<(Vec<f64>, Vec<IterationRecord>), ElasticError> {
+        if !self.condensable() || self.condensed_failed {
+            return self.newton(f_ext, loads, committed, u, pass);
+        }
+        self.impose_prescribed(&mut u, loads);
+        if !self.modes_checked {
+            // the rigid-mode check (which may add a minimal constraint) is
+            // made on the full tangent, as in the full pass
+            let (kt, _) = self.tangent_and_force(&u, committed, true)?;
+            let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+            self.rotations.rotate_matrix(&mut kt);
+            let mut zero = vec![0.0; u.len()];
+            self.prepared.apply_scaled(&mut kt, &mut zero, 0.0);
+            self.check_modes(&kt)?;
+            if !self.modes_checked {
+                // a minimal constraint was added: condense afresh
+                self.condensed = None;
+                return self.newton_pass(f_ext, loads, committed, u, pass);
+            }
+        }
+        if self.condensed.is_none() {
+            let t0 = std::time::Instant::now();
+            let c = self.condense();
+            if std::env::var("TECON_CONDENSED_DEBUG").is_ok() {
+                eprintln!("condense {:.3} s", t0.elapsed().as_secs_f64());
+            }
+            match c {
+                Ok(c) => self.condensed = Some(c),
+                // an interior held by nothing (a body without interface
+                // and constraints): the full pass names it
+                Err(ElasticError::Fem(FemError::NotPositiveDefinite { .. })) => {
+                    self.condensed_failed = true;
+                    return self.newton(f_ext, loads, committed, u, pass);
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        let Some(mut cx) = self.condensed.take() else {
+            return self.newton(f_ext, loads, committed, u, pass);
+        };
+        let t0 = std::time::Instant::now();
+        let outcome = self.condensed_pass(&mut cx, f_ext, committed, u.clone(), pass);
+        if std::env::var("TECON_CONDENSED_DEBUG").is_ok() {
+            eprintln!(
+                "pass {pass}: {:.3} s, {:?} iterations",
+                t0.elapsed().as_secs_f64(),
+                outcome.as_ref().ok().map(|o| match o {
+                    Outcome::Done(_, h) => h.len(),
+                    Outcome::FullPass => 0,
+                })
+            );
+        }
+        self.condensed = Some(cx);
+        match outcome? {
+            Outcome::Done(u, history) => Ok((u, history)),
+            Outcome::FullPass => self.newton(f_ext, loads, committed, u, pass),
+        }
+    }
+
+    /// Condenses the constrained, rotated bulk onto the interface dofs.
+    fn condense(&self) -> Result<Condensed, ElasticError> {
+        let n = self.u.len();
+        let mut kb = self.k_bulk.clone();
+        self.rotations.rotate_matrix(&mut kb);
+        let mut zero = vec![0.0; n];
+        self.prepared.apply_scaled(&mut kb, &mut zero, 0.0);
+        let m = self.interface_dofs.len();
+        let mut chol = CondensedCholesky::analyse(
+            kb.pattern().clone(),
+            &self.interface_dofs,
+            (m / 8).max(MAX_UPDATE_RANK),
+        )?;
+        chol.prepare(&kb)?;
+        let fixed: Vec<bool> = chol
+            .gamma()
+            .iter()
+            .map(|&d| self.dirichlet.contains(d))
+            .collect();
+        let (ptr, col, slot) = chol.gamma_entries();
+        let v = kb.values();
+        let mut bulk_gg = vec![0.0; slot.len()];
+        for a in 0..m {
+            for k in ptr[a]..ptr[a + 1] {
+                let b = col[k];
+                bulk_gg[k] = if (fixed[a] || fixed[b]) && a != b {
+                    0.0
+                } else {
+                    v[slot[k]]
+                };
+            }
+        }
+        let mut scratch = kb;
+        scratch.values_mut().fill(0.0);
+        Ok(Condensed {
+            chol,
+            bulk_gg,
+            fixed,
+            scratch,
+        })
+    }
+
+    /// The interface forces on Γ at `uf` (a full vector whose Γ entries are
+    /// current) and, if asked, the Γ × Γ tangent values (bulk + interface,
+    /// constrained rows and columns zero but the bulk diagonal).
+    fn gamma_force(
+        &self,
+        cx: &mut Condensed,
+        uf: &[f64],
+        states: &[PointStates],
+        fc: &mut [f64],
+        tangent: bool,
+    ) -> Result<(Vec<f64>, Option<Vec<f64>>), ElasticError> {
+        let gamma = cx.chol.gamma();
+        for &d in gamma {
+            fc[d] = 0.0;
+        }
+        let gg = if tangent {
+            let (ptr, col, slot) = cx.chol.gamma_entries();
+            let values = cx.scratch.values_mut();
+            for &k in slot {
+                values[k] = 0.0;
+            }
+            self.add_interfaces(uf, states, Some(&mut cx.scratch), fc)?;
+            let values = cx.scratch.values();
+            let mut gg = cx.bulk_gg.clone();
+            for a in 0..gamma.len() {
+                if cx.fixed[a] {
+                    continue;
+                }
+                for k in ptr[a]..ptr[a + 1] {
+                    if !cx.fixed[col[k]] {
+                        gg[k] += values[slot[k]];
+                    }
+                }
+            }
+            Some(gg)
+        } else {
+            self.add_interfaces(uf, states, None, fc)?;
+            None
+        };
+        let f: Vec<f64> = gamma.iter().map(|&d| fc[d]).collect();
+        Ok((f, gg))
+    }
+
+    /// The pass on Γ (see the module notes).
+    fn condensed_pass(
+        &mut self,
+        cx: &mut Condensed,
+        f_ext: &[f64],
+        committed: &[PointStates],
+        mut u: Vec<f64>,
+        pass: usize,
+    ) -> Result<Outcome, ElasticError> {
+        let opts = self.options;
+        let n = u.len();
+        // the interior in equilibrium with the interface dofs
+        let (kt, f_int) = self.tangent_and_force(&u, committed, true)?;
+        let kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+        let r = self.residual(f_ext, &f_int);
+        let mut d_i: Vec<f64> = cx.chol.interior().iter().map(|&d| r[d]).collect();
+        // (after a pass of the same increment the interior is in
+        // equilibrium already, to round-off: no solve)
+        let reference0 = norm(f_ext).max(norm(&f_int)).max(f64::MIN_POSITIVE);
+        if norm(&d_i) > LINEAR_SHARE * opts.residual_tolerance * reference0 {
+            cx.chol.solve_interior(&mut d_i)?;
+        } else {
+            d_i.fill(0.0);
+        }
+        let coupling = cx.chol.mul_gamma_interior(&d_i);
+        let mut dv = vec![0.0; n];
+        for (&d, &x) in cx.chol.interior().iter().zip(&d_i) {
+            dv[d] = x;
+        }
+        self.rotations.unrotate_vector(&mut dv);
+        for (a, b) in u.iter_mut().zip(&dv) {
+            *a += b;
+        }
+        // force scale and round-off floor of the pass, at its start
+        let mut kdv = vec![0.0; n];
+        self.k_bulk.mul_vec(&dv, &mut kdv);
+        let f_int: Vec<f64> = f_int.iter().zip(&kdv).map(|(a, b)| a + b).collect();
+        let mut t = PassTracker::new(norm(f_ext), pass);
+        t.reference = t.reference.max(norm(&f_int));
+        let floor = round_off_floor(&kt, &u, f_ext) / t.reference;
+        let tolerance = opts.residual_tolerance.max(floor);
+        // a corrected linear solve need not beat the convergence test
+        let accept = LINEAR_SHARE * tolerance * t.reference;
+        let gamma: Vec<usize> = cx.chol.gamma().to_vec();
+        let m = gamma.len();
+        let mut fc = vec![0.0; n];
+        let (fc0, _) = self.gamma_force(cx, &u, committed, &mut fc, false)?;
+        // bulk residual on Γ at the start: r_Γ − A_ΓI d_I + f_c
+        let rb0: Vec<f64> = (0..m)
+            .map(|a| {
+                if cx.fixed[a] {
+                    0.0
+                } else {
+                    r[gamma[a]] - coupling[a] + fc0[a]
+                }
+            })
+            .collect();
+        let interior_norm2: f64 = cx.chol.interior().iter().map(|&d| u[d] * u[d]).sum();
+        let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
+        let mut delta = vec![0.0; m];
+        let mut s_delta = vec![0.0; m];
+        let mut uf = u.clone();
+        let residual = |s_delta: &[f64], fcg: &[f64], fixed: &[bool]| -> Vec<f64> {
+            (0..m)
+                .map(|a| {
+                    if fixed[a] {
+                        0.0
+                    } else {
+                        rb0[a] - s_delta[a] - fcg[a]
+                    }
+                })
+                .collect()
+        };
+        let mut converged = false;
+        while t.history.len() < opts.max_iterations {
+            let (fcg, gg) = self.gamma_force(cx, &uf, committed, &mut fc, true)?;
+            let mut gg = gg.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+            let r_g = residual(&s_delta, &fcg, &cx.fixed);
+            let rel = norm(&r_g) / t.reference;
+            let status_t = self.statuses(&uf, committed);
+            let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
+            if obs.done {
+                converged = true;
+                break;
+            }
+            if let Some(damped) = t.damped_points() {
+                let flagged = self.with_secant_slip(committed, damped);
+                gg = self
+                    .gamma_force(cx, &uf, &flagged, &mut fc, true)?
+                    .1
+                    .ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+            }
+            let predicted = t.predicted_openings(
+                &self.neighbours,
+                &per_element,
+                &obs.status,
+                opts.front_prediction,
+            );
+            let ray = Ray {
+                gamma: &gamma,
+                uf: &uf,
+                s_delta: &s_delta,
+                rb0: &rb0,
+                r: &r_g,
+            };
+            let trial = if predicted.is_empty() {
+                None
+            } else {
+                let forced = self.forced_open(committed, &predicted);
+                let gp = self
+                    .gamma_force(cx, &uf, &forced, &mut fc, true)?
+                    .1
+                    .ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+                let mut du = r_g.clone();
+                match cx.chol.solve_schur(&gp, &mut du, accept) {
+                    Ok((_, sx)) if dot(&r_g, &du) > 0.0 => {
+                        let s_du = Self::bulk_product(cx, &gp, &du, sx);
+                        let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
+                        if step < KEEP_PREDICTED_STEP {
+                            None
+                        } else {
+                            let end = ray.at(&du, step);
+                            let status = self.statuses(&end, committed);
+                            let all_open = predicted
+                                .iter()
+                                .all(|&i| status[i].0.0 == ContactStatus::Open);
+                            Some((du, s_du, step, all_open))
+                        }
+                    }
+                    _ => None,
+                }
+            };
+            let (du, s_du, step) = match trial {
+                Some((du, s_du, step, all_open)) => {
+                    t.kept_prediction(predicted.len(), all_open);
+                    (du, s_du, step)
+                }
+                None => {
+                    if !predicted.is_empty()
+                        && t.rejected_prediction(predicted.len(), opts.max_iterations)
+                    {
+                        break;
+                    }
+                    let mut du = r_g.clone();
+                    let sx = match cx.chol.solve_schur(&gg, &mut du, accept) {
+                        Ok((_, sx)) => sx,
+                        Err(FemError::NotPositiveDefinite { .. }) => return Ok(Outcome::FullPass),
+                        Err(e) => return Err(e.into()),
+                    };
+                    let s_du = Self::bulk_product(cx, &gg, &du, sx);
+                    let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
+                    (du, s_du, step)
+                }
+            };
+            for a in 0..m {
+                delta[a] += step * du[a];
+                s_delta[a] += step * s_du[a];
+                uf[gamma[a]] = u[gamma[a]] + delta[a];
+            }
+            let gamma_norm2: f64 = gamma.iter().map(|&d| uf[d] * uf[d]).sum();
+            let unorm = (interior_norm2 + gamma_norm2).sqrt().max(f64::MIN_POSITIVE);
+            t.stepped(step, step * norm(&du) / unorm)?;
+        }
+        if !converged {
+            return Err(super::newton::failure(
+                format!("no convergence in {} iterations", opts.max_iterations),
+                t.history,
+            ));
+        }
+        // the interior follows the interface: Δu_I = −A_II⁻¹ A_IΓ δ
+        let mut d_i = cx.chol.mul_interior_gamma(&delta);
+        cx.chol.solve_interior(&mut d_i)?;
+        let mut dv = vec![0.0; n];
+        for (&d, &x) in cx.chol.interior().iter().zip(&d_i) {
+            dv[d] = -x;
+        }
+        self.rotations.unrotate_vector(&mut dv);
+        for (a, &d) in gamma.iter().enumerate() {
+            dv[d] = delta[a];
+        }
+        for (a, b) in u.iter_mut().zip(&dv) {
+            *a += b;
+        }
+        Ok(Outcome::Done(u, t.history))
+    }
+
+    /// The exact energy line search along `du` (on Γ): the bulk residual
+    /// along the ray is `r_b − S δ − α S du`, with S the bulk's Schur
+    /// complement and `s_du` = S du.
+    fn gamma_line_search(
+        &self,
+        cx: &Condensed,
+        committed: &[PointStates],
+        ray: &Ray<'_>,
+        du: &[f64],
+        s_du: &[f64],
+    ) -> Result<f64, ElasticError> {
+        let mut fc = vec![0.0; ray.uf.len()];
+        let mut trial = ray.uf.to_vec();
+        let g0 = -dot(ray.r, du);
+        root_along_ray(g0, |alpha| {
+            for (a, &d) in ray.gamma.iter().enumerate() {
+                trial[d] = ray.uf[d] + alpha * du[a];
+                fc[d] = 0.0;
+            }
+            self.add_interfaces(&trial, committed, None, &mut fc)?;
+            let g: f64 = (0..ray.gamma.len())
+                .filter(|&a| !cx.fixed[a])
+                .map(|a| {
+                    let r = ray.rb0[a] - ray.s_delta[a] - alpha * s_du[a] - fc[ray.gamma[a]];
+                    -r * du[a]
+                })
+                .sum();
+            Ok(g)
+        })
+    }
+
+    /// The bulk part S_b du of a Schur product: `sx` = (S_b + K_c) du less
+    /// the interface tangent K_c = `gg` − `bulk_gg` (sparse).
+    fn bulk_product(cx: &Condensed, gg: &[f64], du: &[f64], mut sx: Vec<f64>) -> Vec<f64> {
+        let (ptr, col, _) = cx.chol.gamma_entries();
+        for (a, y) in sx.iter_mut().enumerate() {
+            for k in ptr[a]..ptr[a + 1] {
+                let d = gg[k] - cx.bulk_gg[k];
+                if d != 0.0 {
+                    *y -= d * du[col[k]];
+                }
+            }
+        }
+        sx
+    }
+}
+
+/// A Newton ray on Γ: the iterate (full vector with current Γ entries),
+/// its bulk state and residual.
+struct Ray<'a> {
+    gamma: &'a [usize],
+    uf: &'a [f64],
+    s_delta: &'a [f64],
+    rb0: &'a [f64],
+    r: &'a [f64],
+}
+
+impl Ray<'_> {
+    /// The full vector at step `alpha` along `du` (Γ entries moved).
+    fn at(&self, du: &[f64], alpha: f64) -> Vec<f64> {
+        let mut v = self.uf.to_vec();
+        for (a, &d) in self.gamma.iter().enumerate() {
+            v[d] += alpha * du[a];
+        }
+        v
+    }
+}
+
+/// Whether condensation is enabled (`TECON_CONDENSED=0` turns it off, for
+/// comparisons).
+fn condensation_wanted() -> bool {
+    std::env::var("TECON_CONDENSED").as_deref() != Ok("0")
+}
