@@ -78,6 +78,11 @@ impl UpdatedCholesky {
         })
     }
 
+    /// Stored entries of the Cholesky factor.
+    pub fn factor_nnz(&self) -> usize {
+        self.cholesky.factor_nnz()
+    }
+
     /// How the systems so far were solved.
     pub fn stats(&self) -> UpdateStats {
         self.stats

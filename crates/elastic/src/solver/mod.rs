@@ -83,6 +83,8 @@ pub struct StaticSolver<'a> {
     condensed: Option<condensed::Condensed>,
     /// Condensation was tried and the interior was not positive definite.
     condensed_failed: bool,
+    /// Whether the passes run condensed (decided once, on the first pass).
+    condensed_choice: Option<bool>,
     /// Dofs of the interface elements' nodes: the only rows of the tangent
     /// that change within a contact solve.
     interface_dofs: Vec<usize>,
@@ -256,6 +258,7 @@ impl<'a> StaticSolver<'a> {
             cholesky: None,
             condensed: None,
             condensed_failed: false,
+            condensed_choice: None,
             interface_dofs,
             lu: None,
             u: vec![0.0; n],
@@ -339,12 +342,21 @@ impl<'a> StaticSolver<'a> {
     }
 
     /// How the symmetric tangents so far were solved (factorised, reused,
-    /// corrected by a low-rank update).
+    /// corrected by a low-rank update): the sparse factor of the full
+    /// passes and the dense interface factor of the condensed ones (a
+    /// condensation counts as one factorisation).
     pub fn solve_stats(&self) -> UpdateStats {
-        self.cholesky
+        let mut s = self
+            .cholesky
             .as_ref()
             .map(UpdatedCholesky::stats)
-            .unwrap_or_default()
+            .unwrap_or_default();
+        if let Some((c, condensations)) = self.condensed_stats() {
+            s.factorisations += c.factorisations + condensations;
+            s.reused += c.reused;
+            s.corrected += c.corrected;
+        }
+        s
     }
 
     /// Committed interface states, one [`PointStates`] per interface.
