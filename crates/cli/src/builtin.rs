@@ -112,6 +112,9 @@ pub struct VesselOptions {
     pub penalty_factor: f64,
     /// Augmented-Lagrangian tolerance (None: pure penalty).
     pub augmented_lagrangian: Option<f64>,
+    /// Newton passes condensed onto the interface dofs where cheaper
+    /// (false: full passes always).
+    pub condensation: bool,
     /// Internal (operating) pressure applied after cooling, Pa.
     pub pressure: Option<f64>,
     /// Output times of the transient, s (the last is the end of cooling).
@@ -143,6 +146,7 @@ impl Default for VesselOptions {
             cohesion: 0.0,
             penalty_factor: tecon_contact::DEFAULT_PENALTY_FACTOR,
             augmented_lagrangian: Some(1e-4),
+            condensation: true,
             pressure: None,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
             analysis: Analysis::PlaneStrain,
@@ -358,6 +362,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             remove_free_translations: true,
             augmented_lagrangian: Some(o.augmented_lagrangian.unwrap_or(0.0)),
             reference_temperature: None,
+            condensation: Some(o.condensation),
         },
         output: OutputSection {
             times,

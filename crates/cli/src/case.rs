@@ -315,6 +315,10 @@ pub struct MechanicalSection {
     pub augmented_lagrangian: Option<f64>,
     /// Stress-free temperature of every element (default: the initial field).
     pub reference_temperature: Option<f64>,
+    /// Newton passes on the interface dofs alone, the bulk condensed onto
+    /// them, where that is cheaper (default true; false: full passes
+    /// always, as a cross-check: the answers agree to the tolerances).
+    pub condensation: Option<bool>,
 }
 
 /// `[[mechanical.fix]]`.
@@ -508,6 +512,8 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     });
     // over every contact solve, written or not
     summary["newton_max_iterations_per_increment"] = json!(outcome.newton.max_per_increment);
+    // the bulk condensed onto this many interface dofs (null: full passes)
+    summary["newton_condensed_interface_dofs"] = json!(outcome.newton.condensed_dofs);
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);
         summary["coupling"]["per_output"] = json!(

@@ -256,6 +256,9 @@ pub struct NewtonStats {
     pub max_augmentations: usize,
     /// Tangent factorisations / reused factors / low-rank corrected solves.
     pub solves: tecon_fem::UpdateStats,
+    /// Interface dofs the Newton passes were condensed onto (None: full
+    /// passes).
+    pub condensed_dofs: Option<usize>,
 }
 
 /// What the heat conduction did.
@@ -569,6 +572,7 @@ impl<'s> Contact<'s> {
     pub(crate) fn stats(&self) -> NewtonStats {
         NewtonStats {
             solves: self.solver.solve_stats(),
+            condensed_dofs: self.solver.condensed_dofs(),
             ..self.newton
         }
     }

@@ -69,6 +69,9 @@ pub struct MultilayerOptions {
     pub pressure: Option<f64>,
     /// No progress output.
     pub quiet: bool,
+    /// Newton passes condensed onto the interface dofs where cheaper
+    /// (false: full passes always).
+    pub condensation: bool,
 }
 
 impl MultilayerOptions {
@@ -106,6 +109,7 @@ impl MultilayerOptions {
             weld_temperatures: None,
             pressure: None,
             quiet: false,
+            condensation: true,
         })
     }
 
@@ -373,6 +377,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
     let solver_options = SolverOptions {
         augmented_lagrangian: Some(1e-4),
         max_iterations: 150,
+        condensation: o.condensation,
         ..SolverOptions::default()
     };
     let mut temperature: Vec<f64> = Vec::new();

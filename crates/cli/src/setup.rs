@@ -900,6 +900,7 @@ pub fn prepare<'m>(
     let solver = SolverOptions {
         augmented_lagrangian: al,
         max_iterations: 150,
+        condensation: mech.condensation.unwrap_or(true),
         ..Default::default()
     };
     let mut stages = vec![Stage {

@@ -337,6 +337,8 @@ pub fn summary(run: &VesselRun) -> Value {
             "factorisations": run.newton.solves.factorisations,
             "reused_factorisations": run.newton.solves.reused,
             "low_rank_corrected_solves": run.newton.solves.corrected,
+            // the bulk condensed onto this many interface dofs (null: full passes)
+            "condensed_interface_dofs": run.newton.condensed_dofs,
         },
         "joint": {
             "interface": run.options.interface.name(),
@@ -496,6 +498,11 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         run.newton.solves.reused,
         run.newton.solves.corrected,
     );
+    if let Some(m) = run.newton.condensed_dofs {
+        s += &format!(
+            "Newton passes condensed onto the {m} interface dofs (the bulk condensed once; --no-condensation for full passes)\n"
+        );
+    }
     if let Some(c) = &run.coupling {
         s += &format!(
             "two-way coupling: {} blocks, {} coupling iterations (at most {} in one block, {} unsettled, final conductance change ≤ {:.1e})\n",
@@ -699,6 +706,10 @@ pub struct VesselArgs {
     /// Pure penalty contact (no augmented-Lagrangian update).
     #[arg(long)]
     pub penalty_only: bool,
+    /// Full Newton passes always: no condensation of the bulk onto the
+    /// interface dofs (a cross-check; the answers agree to the tolerances)
+    #[arg(long)]
+    pub no_condensation: bool,
     /// Each interface element's own chord normal (the classical Goodman
     /// element, as in the paper) instead of one smoothed normal per node.
     #[arg(long)]
@@ -798,6 +809,7 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
             Analysis::PlaneStrain
         },
         augmented_lagrangian: if args.penalty_only { None } else { Some(1e-4) },
+        condensation: !args.no_condensation,
         normals: if args.element_normals {
             InterfaceNormals::Element
         } else {

@@ -140,8 +140,7 @@ impl CondensedCholesky {
         let (mut gi_ptr, mut gi_col, mut gi_slot) = (vec![0], Vec::new(), Vec::new());
         let (mut gg_ptr, mut gg_col, mut gg_slot) = (vec![0], Vec::new(), Vec::new());
         for &d in &gamma {
-            for k in ptr[d]..ptr[d + 1] {
-                let j = idx[k];
+            for (k, &j) in idx.iter().enumerate().take(ptr[d + 1]).skip(ptr[d]) {
                 if gpos[j] != NONE {
                     gg_col.push(gpos[j]);
                     gg_slot.push(k);
@@ -425,13 +424,6 @@ impl CondensedCholesky {
         self.gg_base = None;
         self.columns.clear();
         self.condensations += 1;
-        if std::env::var("TECON_CONDENSED_DEBUG").is_ok() {
-            eprintln!(
-                "condensation {} (m = {m}, n_I = {})",
-                self.condensations,
-                self.interior.len()
-            );
-        }
         Ok(())
     }
 
@@ -453,11 +445,11 @@ impl CondensedCholesky {
                 return Ok((SolveKind::Reused, None));
             }
             let b = s.to_vec();
-            if changed.len() <= self.max_rank {
-                if let Some(sx) = self.refined_solve(gg, &changed, s, &b, accept) {
-                    self.stats.corrected += 1;
-                    return Ok((SolveKind::Corrected(changed.len()), Some(sx)));
-                }
+            if changed.len() <= self.max_rank
+                && let Some(sx) = self.refined_solve(gg, &changed, s, &b, accept)
+            {
+                self.stats.corrected += 1;
+                return Ok((SolveKind::Corrected(changed.len()), Some(sx)));
             }
             s.copy_from_slice(&b);
         }
@@ -502,8 +494,9 @@ impl CondensedCholesky {
             *f = -c;
         }
         for a in 0..m {
-            for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
-                self.factor[self.gg_col[k] * m + a] += gg[k];
+            let row = self.gg_ptr[a]..self.gg_ptr[a + 1];
+            for (&b, &g) in self.gg_col[row.clone()].iter().zip(&gg[row]) {
+                self.factor[b * m + a] += g;
             }
         }
         self.gg_base = None;

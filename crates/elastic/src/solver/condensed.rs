@@ -32,7 +32,7 @@ use tecon_fem::{CondensedCholesky, FemError};
 use crate::error::{ElasticError, IterationRecord};
 
 use super::line_search::root_along_ray;
-use super::newton::{KEEP_PREDICTED_STEP, round_off_floor};
+use super::newton::{KEEP_PREDICTED_STEP, ROUND_OFF_FACTOR};
 use super::tracker::PassTracker;
 use super::*;
 
@@ -86,7 +86,7 @@ impl StaticSolver<'_> {
                 .interface_dofs
                 .iter()
                 .all(|&d| !self.rotations.contains(d / 2))
-            && condensation_wanted();
+            && self.options.condensation;
         if choice {
             // the full pass's analysis (the fall-back needs it anyway)
             let c = match &mut self.cholesky {
@@ -145,12 +145,7 @@ impl StaticSolver<'_> {
             }
         }
         if self.condensed.is_none() {
-            let t0 = std::time::Instant::now();
-            let c = self.condense();
-            if std::env::var("TECON_CONDENSED_DEBUG").is_ok() {
-                eprintln!("condense {:.3} s", t0.elapsed().as_secs_f64());
-            }
-            match c {
+            match self.condense() {
                 Ok(c) => self.condensed = Some(c),
                 // an interior held by nothing (a body without interface
                 // and constraints): the full pass names it
@@ -164,18 +159,7 @@ impl StaticSolver<'_> {
         let Some(mut cx) = self.condensed.take() else {
             return self.newton(f_ext, loads, committed, u, pass);
         };
-        let t0 = std::time::Instant::now();
         let outcome = self.condensed_pass(&mut cx, f_ext, committed, u.clone(), pass);
-        if std::env::var("TECON_CONDENSED_DEBUG").is_ok() {
-            eprintln!(
-                "pass {pass}: {:.3} s, {:?} iterations",
-                t0.elapsed().as_secs_f64(),
-                outcome.as_ref().ok().map(|o| match o {
-                    Outcome::Done(_, h) => h.len(),
-                    Outcome::FullPass => 0,
-                })
-            );
-        }
         self.condensed = Some(cx);
         match outcome? {
             Outcome::Done(u, history) => Ok((u, history)),
@@ -305,14 +289,44 @@ impl StaticSolver<'_> {
         let mut kdv = vec![0.0; n];
         self.k_bulk.mul_vec(&dv, &mut kdv);
         let f_int: Vec<f64> = f_int.iter().zip(&kdv).map(|(a, b)| a + b).collect();
-        let mut t = PassTracker::new(norm(f_ext), pass);
-        t.reference = t.reference.max(norm(&f_int));
-        let floor = round_off_floor(&kt, &u, f_ext) / t.reference;
-        let tolerance = opts.residual_tolerance.max(floor);
-        // a corrected linear solve need not beat the convergence test
-        let accept = LINEAR_SHARE * tolerance * t.reference;
         let gamma: Vec<usize> = cx.chol.gamma().to_vec();
         let m = gamma.len();
+        let mut t = PassTracker::new(norm(f_ext), pass);
+        // The force scale and the round-off floor as the full pass has
+        // them, ‖f_int‖ and ε ‖ |K_t| |u| + |f_ext| ‖: the rows of I at the
+        // start of the pass (their internal forces equal the external ones
+        // while the interior follows the interface), the rows of Γ at every
+        // iterate (|K_ΓI| |u_I| from the start).
+        let mut in_gamma = vec![false; n];
+        for &d in &gamma {
+            in_gamma[d] = true;
+        }
+        let (kp, ki, kv) = (kt.pattern().indptr(), kt.pattern().indices(), kt.values());
+        let row_abs = |i: usize, only_interior: bool| -> f64 {
+            (kp[i]..kp[i + 1])
+                .filter(|&q| !only_interior || !in_gamma[ki[q]])
+                .map(|q| (kv[q] * u[ki[q]]).abs())
+                .sum::<f64>()
+        };
+        let (mut floor_i2, mut f_int_i2) = (0.0, 0.0);
+        for &i in cx.chol.interior() {
+            floor_i2 += (row_abs(i, false) + f_ext[i].abs()).powi(2);
+            f_int_i2 += f_int[i] * f_int[i];
+        }
+        let gi_abs: Vec<f64> = gamma.iter().map(|&d| row_abs(d, true)).collect();
+        let (gg_ptr, gg_col, _) = cx.chol.gamma_entries();
+        let (gg_ptr, gg_col) = (gg_ptr.to_vec(), gg_col.to_vec());
+        let scale = |gg: &[f64], r_g: &[f64], uf: &[f64]| -> (f64, f64) {
+            let (mut floor2, mut f2) = (floor_i2, f_int_i2);
+            for (a, &d) in gamma.iter().enumerate() {
+                let row: f64 = (gg_ptr[a]..gg_ptr[a + 1])
+                    .map(|k| (gg[k] * uf[gamma[gg_col[k]]]).abs())
+                    .sum();
+                floor2 += (gi_abs[a] + row + f_ext[d].abs()).powi(2);
+                f2 += (f_ext[d] - r_g[a]).powi(2);
+            }
+            (ROUND_OFF_FACTOR * f64::EPSILON * floor2.sqrt(), f2.sqrt())
+        };
         let mut fc = vec![0.0; n];
         let (fc0, _) = self.gamma_force(cx, &u, committed, &mut fc, false)?;
         // bulk residual on Γ at the start: r_Γ − A_ΓI d_I + f_c
@@ -346,7 +360,13 @@ impl StaticSolver<'_> {
             let (fcg, gg) = self.gamma_force(cx, &uf, committed, &mut fc, true)?;
             let mut gg = gg.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             let r_g = residual(&s_delta, &fcg, &cx.fixed);
+            let (floor_abs, f_int_norm) = scale(&gg, &r_g, &uf);
+            t.reference = t.reference.max(f_int_norm);
             let rel = norm(&r_g) / t.reference;
+            let floor = floor_abs / t.reference;
+            let tolerance = opts.residual_tolerance.max(floor);
+            // a corrected linear solve need not beat the convergence test
+            let accept = LINEAR_SHARE * tolerance * t.reference;
             let status_t = self.statuses(&uf, committed);
             let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
             if obs.done {
@@ -376,12 +396,12 @@ impl StaticSolver<'_> {
             let trial = if predicted.is_empty() {
                 None
             } else {
+                // the Newton step of the branch where the predicted points
+                // are open: its tangent and its residual
                 let forced = self.forced_open(committed, &predicted);
-                let gp = self
-                    .gamma_force(cx, &uf, &forced, &mut fc, true)?
-                    .1
-                    .ok_or_else(|| FemError::Solver("tangent missing".into()))?;
-                let mut du = r_g.clone();
+                let (fcp, gp) = self.gamma_force(cx, &uf, &forced, &mut fc, true)?;
+                let gp = gp.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+                let mut du = residual(&s_delta, &fcp, &cx.fixed);
                 match cx.chol.solve_schur(&gp, &mut du, accept) {
                     Ok((_, sx)) if dot(&r_g, &du) > 0.0 => {
                         let s_du = Self::bulk_product(cx, &gp, &du, sx);
@@ -520,10 +540,4 @@ impl Ray<'_> {
         }
         v
     }
-}
-
-/// Whether condensation is enabled (`TECON_CONDENSED=0` turns it off, for
-/// comparisons).
-fn condensation_wanted() -> bool {
-    std::env::var("TECON_CONDENSED").as_deref() != Ok("0")
 }

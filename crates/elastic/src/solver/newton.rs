@@ -150,7 +150,7 @@ pub(super) const SLIP_STABILISATION: f64 = 1e-6;
 /// Safety factor of the round-off floor over `ε · ‖ |K| |u| + |f| ‖` (the
 /// error of a sum of n terms grows like √n ε in practice, n ≤ ~30 per row
 /// here, and the tangent's entries carry their own assembly round-off).
-const ROUND_OFF_FACTOR: f64 = 64.0;
+pub(super) const ROUND_OFF_FACTOR: f64 = 64.0;
 
 /// Round-off floor of ‖R‖ = ‖f_ext − K u‖: `ε · ‖ |K| |u| + |f_ext| ‖`
 /// (row-wise sums of magnitudes), times [`ROUND_OFF_FACTOR`].

@@ -114,6 +114,11 @@ pub struct SolverOptions {
     /// statuses settle. The converged answer is the same either way; only
     /// the path of a pass that would ping-pong changes.
     pub slip_damping: bool,
+    /// Newton passes on the interface dofs alone, the bulk condensed onto
+    /// them once (see the solver's `condensed` module), where that is
+    /// cheaper than the full passes. The converged answer is the same
+    /// either way (to the tolerances); only the cost changes.
+    pub condensation: bool,
 }
 
 impl Default for SolverOptions {
@@ -131,6 +136,7 @@ impl Default for SolverOptions {
             friction_tolerance: 1e-4,
             front_prediction: true,
             slip_damping: true,
+            condensation: true,
         }
     }
 }
