@@ -50,9 +50,6 @@ const REFINEMENTS: usize = 4;
 /// factorised (S is only semidefinite for a body held by Γ alone).
 const SCHUR_SHIFT: f64 = 1e-8;
 
-/// Schur systems from this size on are factorised and solved on all threads.
-const DENSE_PARALLEL_MIN: usize = 384;
-
 /// Sparse Cholesky of the condensed-out dofs and dense Cholesky of the
 /// Schur complement on Γ, with low-rank reuse of the latter.
 #[derive(Debug)]
@@ -479,12 +476,11 @@ impl CondensedCholesky {
         Some(rows)
     }
 
+    /// The dense factorisation and solves run on one thread: faer's
+    /// parallel blocked kernels round differently on different thread
+    /// counts, and results must not depend on them.
     fn par(&self) -> Par {
-        if self.gamma.len() >= DENSE_PARALLEL_MIN {
-            faer::get_global_parallelism()
-        } else {
-            Par::Seq
-        }
+        Par::Seq
     }
 
     /// Dense Cholesky of S = A_ΓΓ − C.

@@ -249,6 +249,9 @@ impl CholeskySolver {
     }
 }
 
+/// Columns of S per task of the product L Lᵀ in [`schur_complement`].
+const SCHUR_BLOCK: usize = 128;
+
 /// The Schur complement S = A_ΓΓ − A_ΓI A_II⁻¹ A_IΓ of a symmetric
 /// positive semidefinite `matrix` onto the dofs `gamma`, by one sparse
 /// Cholesky factorisation with the other dofs eliminated first, in the
@@ -349,17 +352,27 @@ pub fn schur_complement(
             }
         }
     }
-    // S = L Lᵀ − shift I
+    // S = L Lᵀ − shift I, in fixed blocks of columns (one sequential product
+    // each, on any thread: the same bits whatever the thread count)
     let lm = faer::MatRef::from_column_major_slice(&l, m, m);
     let mut out = vec![0.0; m * m];
-    faer::linalg::matmul::matmul(
-        faer::MatMut::from_column_major_slice_mut(&mut out, m, m),
-        faer::Accum::Replace,
-        lm,
-        lm.transpose(),
-        1.0,
-        faer::get_global_parallelism(),
-    );
+    {
+        use rayon::prelude::*;
+        out.par_chunks_mut(SCHUR_BLOCK * m.max(1))
+            .enumerate()
+            .for_each(|(b, chunk)| {
+                let cols = chunk.len() / m.max(1);
+                let start = b * SCHUR_BLOCK;
+                faer::linalg::matmul::matmul(
+                    faer::MatMut::from_column_major_slice_mut(chunk, m, cols),
+                    faer::Accum::Replace,
+                    lm,
+                    lm.subrows(start, cols).transpose(),
+                    1.0,
+                    Par::Seq,
+                );
+            });
+    }
     for a in 0..m {
         out[a * m + a] -= shift;
     }
@@ -453,4 +466,52 @@ pub fn relative_residual(matrix: &CsrMatrix, x: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max);
     let nb = b.iter().map(|v| v.abs()).fold(0.0, f64::max);
     if nb == 0.0 { r } else { r / nb }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn schur_complements_match_the_dense_formula_also_for_a_floating_body() {
+        // a chain of 7 springs (a 1D bar); Γ = dofs 3 and 7; with dof 0
+        // held the matrix is definite, without it the bar floats and S is
+        // singular (the shift keeps the factorisation going)
+        let n = 8;
+        let pairs: Vec<usize> = (0..n - 1).flat_map(|i| [i, i + 1]).collect();
+        let pattern = std::sync::Arc::new(SparsityPattern::from_blocks(n, &[(2, &pairs)]).unwrap());
+        for held in [true, false] {
+            let mut a = CsrMatrix::zeros(pattern.clone());
+            for i in 0..n - 1 {
+                let k = 1.0 + i as f64;
+                for (r, c, v) in [(i, i, k), (i + 1, i + 1, k), (i, i + 1, -k), (i + 1, i, -k)] {
+                    let s = a.pattern().slot(r, c).unwrap();
+                    a.values_mut()[s] += v;
+                }
+            }
+            if held {
+                let s = a.pattern().slot(0, 0).unwrap();
+                a.values_mut()[s] += 10.0;
+            }
+            let gamma = [3usize, 7];
+            let interior: Vec<usize> = (0..n).filter(|d| !gamma.contains(d)).collect();
+            let s = schur_complement(&a, &interior, &gamma, 1e-8).unwrap();
+            // dense reference: A_ΓΓ − A_ΓI A_II⁻¹ A_IΓ
+            let d = a.to_dense();
+            let ii = d.select_rows(&interior).select_columns(&interior);
+            let gi = d.select_rows(&gamma).select_columns(&interior);
+            let gg = d.select_rows(&gamma).select_columns(&gamma);
+            let want = &gg - &gi * ii.lu().solve(&gi.transpose()).unwrap();
+            for r in 0..2 {
+                for c in 0..2 {
+                    let err = (s[c * 2 + r] - want[(r, c)]).abs();
+                    assert!(err < 1e-12 * want.amax(), "held {held}: ({r}, {c}) {err:e}");
+                }
+            }
+            if !held {
+                // a floating bar: the rigid mode (1, 1) is in S's null space
+                assert!((s[0] + s[2]).abs() < 1e-12 && (s[1] + s[3]).abs() < 1e-12);
+            }
+        }
+    }
 }
