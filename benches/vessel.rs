@@ -21,16 +21,24 @@ use tecon_cli::vessel::{VesselOptions, analyse};
 fn vessel(c: &mut Criterion) {
     let mut g = c.benchmark_group("vessel");
     g.sample_size(10);
-    for (name, spec) in [
-        ("paper", Ok(VesselMeshSpec::paper())),
-        ("level2_p1", VesselMeshSpec::refined(2)),
-        ("graded0_p2", VesselMeshSpec::graded(0)),
-        ("1e5_triangles", VesselMeshSpec::with_triangles(100_000)),
+    // the last: the same mesh with full Newton passes (no condensation onto
+    // the interface dofs), for comparison
+    for (name, spec, condensation) in [
+        ("paper", Ok(VesselMeshSpec::paper()), true),
+        ("level2_p1", VesselMeshSpec::refined(2), true),
+        ("graded0_p2", VesselMeshSpec::graded(0), true),
+        ("1e5_triangles", VesselMeshSpec::with_triangles(100_000), true),
+        (
+            "1e5_triangles_full_passes",
+            VesselMeshSpec::with_triangles(100_000),
+            false,
+        ),
     ] {
         let spec = spec.expect("mesh spec");
         let o = VesselOptions {
             mesh: spec,
             quiet: true,
+            condensation,
             ..Default::default()
         };
         let run = analyse(&o).expect("vessel run");
