@@ -27,7 +27,11 @@ fn vessel(c: &mut Criterion) {
         ("paper", Ok(VesselMeshSpec::paper()), true),
         ("level2_p1", VesselMeshSpec::refined(2), true),
         ("graded0_p2", VesselMeshSpec::graded(0), true),
-        ("1e5_triangles", VesselMeshSpec::with_triangles(100_000), true),
+        (
+            "1e5_triangles",
+            VesselMeshSpec::with_triangles(100_000),
+            true,
+        ),
         (
             "1e5_triangles_full_passes",
             VesselMeshSpec::with_triangles(100_000),

@@ -471,6 +471,15 @@ fn condensed_passes_give_the_full_passes_answers() {
         assert!(((a - b) / a).abs() < 1e-6, "{k}: full {a}, condensed {b}");
     }
     let one_thread = go(true, 1);
+    let three = go(true, 3);
+    for k in [
+        "/final/hoop_mean/layer_outer",
+        "/final/contact_pressure_mean",
+        "/final/hoop_force_balance",
+        "/newton/iterations",
+    ] {
+        assert_eq!(f(&condensed, k), f(&three, k), "{k}");
+    }
     for k in [
         "/final/hoop_mean/layer_outer",
         "/final/contact_pressure_mean",

@@ -476,13 +476,6 @@ impl CondensedCholesky {
         Some(rows)
     }
 
-    /// The dense factorisation and solves run on one thread: faer's
-    /// parallel blocked kernels round differently on different thread
-    /// counts, and results must not depend on them.
-    fn par(&self) -> Par {
-        Par::Seq
-    }
-
     /// Dense Cholesky of S = A_ΓΓ − C.
     fn factorise(&mut self, gg: &[f64]) -> Result<(), FemError> {
         let m = self.gamma.len();
@@ -497,18 +490,7 @@ impl CondensedCholesky {
         }
         self.gg_base = None;
         self.columns.clear();
-        let par = self.par();
-        let req = llt::factor::cholesky_in_place_scratch::<f64>(m, par, Default::default());
-        let mut buf = MemBuffer::try_new(req)
-            .map_err(|_| FemError::Solver("out of memory for the Schur factorisation".into()))?;
-        let res = llt::factor::cholesky_in_place(
-            MatMut::from_column_major_slice_mut(&mut self.factor, m, m),
-            Default::default(),
-            par,
-            MemStack::new(&mut buf),
-            Default::default(),
-        );
-        if let Err(llt::factor::LltError::NonPositivePivot { index }) = res {
+        if let Err(index) = blocked_cholesky(&mut self.factor, m) {
             return Err(FemError::NotPositiveDefinite {
                 pivot: index,
                 dof: self.gamma.get(index).copied().unwrap_or(index),
@@ -520,20 +502,26 @@ impl CondensedCholesky {
         Ok(())
     }
 
-    /// Solves with the dense factor, `k` columns stored one after another.
+    /// Solves with the dense factor, `k` columns stored one after another
+    /// (in fixed blocks of columns, one sequential solve each).
     fn factor_solve_many(&self, x: &mut [f64], k: usize) {
+        use rayon::prelude::*;
         let m = self.gamma.len();
         if m == 0 || k == 0 {
             return;
         }
-        let par = self.par();
-        let mut buf = MemBuffer::new(llt::solve::solve_in_place_scratch::<f64>(m, k, par));
-        llt::solve::solve_in_place(
-            MatRef::from_column_major_slice(&self.factor, m, m),
-            MatMut::from_column_major_slice_mut(x, m, k),
-            par,
-            MemStack::new(&mut buf),
-        );
+        let l = MatRef::from_column_major_slice(&self.factor, m, m);
+        x.par_chunks_mut(SOLVE_BLOCK * m).for_each(|chunk| {
+            let cols = chunk.len() / m;
+            let mut buf =
+                MemBuffer::new(llt::solve::solve_in_place_scratch::<f64>(m, cols, Par::Seq));
+            llt::solve::solve_in_place(
+                l,
+                MatMut::from_column_major_slice_mut(chunk, m, cols),
+                Par::Seq,
+                MemStack::new(&mut buf),
+            );
+        });
     }
 
     fn factor_solve(&self, x: &mut [f64]) {
@@ -644,6 +632,110 @@ impl CondensedCholesky {
         }
         true
     }
+}
+
+/// Columns per task of the multi-column dense solves.
+const SOLVE_BLOCK: usize = 16;
+
+/// Block size of [`blocked_cholesky`].
+const CHOLESKY_BLOCK: usize = 192;
+
+/// Cholesky factorisation in place of the dense m × m column-major `a`
+/// (lower triangle), right-looking by blocks of [`CHOLESKY_BLOCK`]: each
+/// diagonal block, panel row block and trailing column block is one
+/// sequential faer kernel call, the independent ones run in parallel. faer's
+/// own parallel kernels round differently on different thread counts; in
+/// this fixed partition every entry is computed by the same operations in
+/// the same order whatever the thread count. Err: the index of a pivot
+/// that is not positive.
+fn blocked_cholesky(a: &mut [f64], m: usize) -> Result<(), usize> {
+    use rayon::prelude::*;
+    let nb = CHOLESKY_BLOCK;
+    let mut j0 = 0;
+    while j0 < m {
+        let jb = nb.min(m - j0);
+        let (left, right) = a.split_at_mut((j0 + jb) * m);
+        let panel_cols = &mut left[j0 * m..];
+        // the diagonal block
+        {
+            let d =
+                MatMut::from_column_major_slice_with_stride_mut(&mut panel_cols[j0..], jb, jb, m);
+            let req =
+                llt::factor::cholesky_in_place_scratch::<f64>(jb, Par::Seq, Default::default());
+            let mut buf = MemBuffer::new(req);
+            if let Err(llt::factor::LltError::NonPositivePivot { index }) =
+                llt::factor::cholesky_in_place(
+                    d,
+                    Default::default(),
+                    Par::Seq,
+                    MemStack::new(&mut buf),
+                    Default::default(),
+                )
+            {
+                return Err(j0 + index);
+            }
+        }
+        let below = m - j0 - jb;
+        if below == 0 {
+            break;
+        }
+        // the panel below it: X L_jjᵀ = A, i.e. L_jj Xᵀ = Aᵀ, by row blocks
+        {
+            // (a copy: the diagonal block shares its columns with the panel)
+            let mut diag = vec![0.0; jb * jb];
+            for c in 0..jb {
+                diag[c * jb..(c + 1) * jb]
+                    .copy_from_slice(&panel_cols[c * m + j0..c * m + j0 + jb]);
+            }
+            let l_jj = MatRef::from_column_major_slice(&diag, jb, jb);
+            let p = MatMut::from_column_major_slice_with_stride_mut(
+                &mut panel_cols[j0 + jb..],
+                below,
+                jb,
+                m,
+            );
+            let mut blocks = Vec::new();
+            let mut rest = p;
+            while rest.nrows() > 0 {
+                let rows = nb.min(rest.nrows());
+                let (top, bottom) = rest.split_at_row_mut(rows);
+                blocks.push(top);
+                rest = bottom;
+            }
+            blocks.into_par_iter().for_each(|block| {
+                faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+                    l_jj,
+                    block.transpose_mut(),
+                    Par::Seq,
+                );
+            });
+        }
+        // the trailing matrix, by column blocks: A[c.., C] −= P[c.., :] P[C, :]ᵀ
+        let p = MatRef::from_column_major_slice_with_stride(&panel_cols[j0 + jb..], below, jb, m);
+        right
+            .par_chunks_mut(nb * m)
+            .enumerate()
+            .for_each(|(b, chunk)| {
+                let cols = chunk.len() / m;
+                let c0 = b * nb;
+                let target = MatMut::from_column_major_slice_with_stride_mut(
+                    &mut chunk[j0 + jb + c0..],
+                    below - c0,
+                    cols,
+                    m,
+                );
+                faer::linalg::matmul::matmul(
+                    target,
+                    faer::Accum::Add,
+                    p.subrows(c0, below - c0),
+                    p.subrows(c0, cols).transpose(),
+                    -1.0,
+                    Par::Seq,
+                );
+            });
+        j0 += jb;
+    }
+    Ok(())
 }
 
 /// Columns of C per task of [`CondensedCholesky::schur_mul`].
@@ -798,5 +890,61 @@ mod tests {
             Err(FemError::NotPositiveDefinite { dof, .. }) => assert!(gamma.contains(&dof)),
             other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn the_blocked_cholesky_matches_faer_and_not_the_thread_count() {
+        // an SPD matrix B Bᵀ + m I of size 500 (blocks of 192: a partial
+        // last block), pseudo-random entries
+        let m = 500;
+        let b: Vec<f64> = (0..m * m)
+            .map(|i| ((i as u64 * 2654435761 % 1000) as f64) / 1000.0 - 0.5)
+            .collect();
+        let bm = faer::MatRef::from_column_major_slice(&b, m, m);
+        let mut a = vec![0.0; m * m];
+        faer::linalg::matmul::matmul(
+            MatMut::from_column_major_slice_mut(&mut a, m, m),
+            faer::Accum::Replace,
+            bm,
+            bm.transpose(),
+            1.0,
+            Par::Seq,
+        );
+        for i in 0..m {
+            a[i * m + i] += m as f64;
+        }
+        let mut reference = a.clone();
+        let req = llt::factor::cholesky_in_place_scratch::<f64>(m, Par::Seq, Default::default());
+        llt::factor::cholesky_in_place(
+            MatMut::from_column_major_slice_mut(&mut reference, m, m),
+            Default::default(),
+            Par::Seq,
+            MemStack::new(&mut MemBuffer::new(req)),
+            Default::default(),
+        )
+        .unwrap();
+        let factor = |threads: usize| {
+            let mut f = a.clone();
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| blocked_cholesky(&mut f, m))
+                .unwrap();
+            f
+        };
+        let (one, three) = (factor(1), factor(3));
+        let scale = reference.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        for j in 0..m {
+            for i in j..m {
+                let k = j * m + i;
+                assert_eq!(one[k].to_bits(), three[k].to_bits(), "({i}, {j})");
+                assert!((one[k] - reference[k]).abs() < 1e-12 * scale, "({i}, {j})");
+            }
+        }
+        // a matrix that is not positive definite names its pivot
+        let mut bad = a.clone();
+        bad[300 * m + 300] = -1.0;
+        assert_eq!(blocked_cholesky(&mut bad, m), Err(300));
     }
 }
