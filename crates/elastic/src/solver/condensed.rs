@@ -139,8 +139,8 @@ impl StaticSolver<'_> {
             self.prepared.apply_scaled(&mut kt, &mut zero, 0.0);
             self.check_modes(&kt)?;
             if !self.modes_checked {
-                // a minimal constraint was added: condense afresh
-                self.condensed = None;
+                // a minimal constraint was added (and the condensation
+                // dropped): start over
                 return self.newton_pass(f_ext, loads, committed, u, pass);
             }
         }

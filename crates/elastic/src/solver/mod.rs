@@ -417,6 +417,8 @@ impl<'a> StaticSolver<'a> {
                 };
                 self.dirichlet.set(2 * node + c, 0.0);
                 self.prepared = self.dirichlet.prepare(self.assembler.pattern())?;
+                // a condensation of the old constraints no longer holds
+                self.condensed = None;
                 let all = self.model.mesh.bodies();
                 let mut nodes: Vec<usize> = all
                     .iter()
