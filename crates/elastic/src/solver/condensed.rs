@@ -452,7 +452,7 @@ impl StaticSolver<'_> {
             t.stepped(step, step * norm(&du) / unorm)?;
         }
         if !converged {
-            return Err(super::newton::failure(
+            return Err(super::tracker::failure(
                 format!("no convergence in {} iterations", opts.max_iterations),
                 t.history,
             ));

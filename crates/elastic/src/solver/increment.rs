@@ -191,7 +191,7 @@ impl StaticSolver<'_> {
                     }) => {
                         let mut all: Vec<IterationRecord> = passes.concat();
                         all.extend(history);
-                        return Err(super::newton::failure(
+                        return Err(super::tracker::failure(
                             if pass > 1 {
                                 format!("{reason} (pass {pass})")
                             } else {
@@ -261,7 +261,7 @@ impl StaticSolver<'_> {
                 break (start, history);
             }
             if augmentations >= self.options.max_augmentations {
-                return Err(super::newton::failure(
+                return Err(super::tracker::failure(
                     format!(
                         "after {augmentations} outer updates the multipliers still change by {max_change:.3e} Pa and the friction limits by {max_friction_change:.3e} Pa (largest contact pressure {max_p:.3e} Pa)"
                     ),

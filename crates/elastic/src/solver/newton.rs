@@ -5,7 +5,7 @@ use tecon_fem::FemError;
 
 use crate::error::{ElasticError, IterationRecord};
 
-use super::tracker::PassTracker;
+use super::tracker::{PassTracker, failure};
 use super::*;
 
 impl StaticSolver<'_> {
@@ -165,20 +165,6 @@ pub(super) fn round_off_floor(k: &CsrMatrix, u: &[f64], f_ext: &[f64]) -> f64 {
         })
         .sum();
     ROUND_OFF_FACTOR * f64::EPSILON * s.sqrt()
-}
-
-/// A Newton failure inside an increment; [`StaticSolver::advance`] fills in
-/// the increment's number, load fractions and earlier attempts.
-pub(super) fn failure(reason: impl Into<String>, history: Vec<IterationRecord>) -> ElasticError {
-    ElasticError::NotConverged {
-        number: 0,
-        from: 0.0,
-        fraction: 0.0,
-        increment: 0.0,
-        reason: reason.into(),
-        attempts: Vec::new(),
-        history,
-    }
 }
 
 impl StaticSolver<'_> {

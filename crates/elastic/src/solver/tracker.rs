@@ -5,7 +5,6 @@
 
 use crate::error::{ElasticError, IterationRecord};
 
-use super::newton::failure;
 use super::*;
 
 /// What one iterate's statuses and residual say.
@@ -236,5 +235,19 @@ impl PassTracker {
             .map(|p: Vec<(PointStatus, f64)>| p.iter().map(|s| s.0).collect());
         self.prev = self.prev_pending.take();
         Ok(())
+    }
+}
+
+/// A Newton failure inside an increment; [`StaticSolver::advance`] fills in
+/// the increment's number, load fractions and earlier attempts.
+pub(super) fn failure(reason: impl Into<String>, history: Vec<IterationRecord>) -> ElasticError {
+    ElasticError::NotConverged {
+        number: 0,
+        from: 0.0,
+        fraction: 0.0,
+        increment: 0.0,
+        reason: reason.into(),
+        attempts: Vec::new(),
+        history,
     }
 }
