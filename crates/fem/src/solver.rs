@@ -352,7 +352,7 @@ pub fn schur_complement(
             }
         }
     }
-    // S = L Lᵀ − shift I, in fixed blocks of columns (one sequential product
+    // S = L Lᵀ − shift I (its lower triangle), in fixed blocks of columns (one sequential product
     // each, on any thread: the same bits whatever the thread count)
     let lm = faer::MatRef::from_column_major_slice(&l, m, m);
     let mut out = vec![0.0; m * m];
@@ -363,15 +363,28 @@ pub fn schur_complement(
             .for_each(|(b, chunk)| {
                 let cols = chunk.len() / m.max(1);
                 let start = b * SCHUR_BLOCK;
+                // rows from the block's diagonal down (S is symmetric)
                 faer::linalg::matmul::matmul(
-                    faer::MatMut::from_column_major_slice_mut(chunk, m, cols),
+                    faer::MatMut::from_column_major_slice_with_stride_mut(
+                        &mut chunk[start..],
+                        m - start,
+                        cols,
+                        m,
+                    ),
                     faer::Accum::Replace,
-                    lm,
-                    lm.subrows(start, cols).transpose(),
+                    // (L[j, k] = 0 for k > j: the sum ends at the block)
+                    lm.submatrix(start, 0, m - start, start + cols),
+                    lm.submatrix(start, 0, cols, start + cols).transpose(),
                     1.0,
                     Par::Seq,
                 );
             });
+    }
+    // the upper triangle from the lower one
+    for j in 0..m {
+        for i in j + 1..m {
+            out[i * m + j] = out[j * m + i];
+        }
     }
     for a in 0..m {
         out[a * m + a] -= shift;

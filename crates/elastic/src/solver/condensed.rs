@@ -264,8 +264,7 @@ impl StaticSolver<'_> {
         let opts = self.options;
         let n = u.len();
         // the interior in equilibrium with the interface dofs
-        let (kt, f_int) = self.tangent_and_force(&u, committed, true)?;
-        let kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+        let (_, f_int) = self.tangent_and_force(&u, committed, false)?;
         let r = self.residual(f_ext, &f_int);
         let mut d_i: Vec<f64> = cx.chol.interior().iter().map(|&d| r[d]).collect();
         // (after a pass of the same increment the interior is in
@@ -286,9 +285,14 @@ impl StaticSolver<'_> {
             *a += b;
         }
         // force scale and round-off floor of the pass, at its start
-        let mut kdv = vec![0.0; n];
-        self.k_bulk.mul_vec(&dv, &mut kdv);
-        let f_int: Vec<f64> = f_int.iter().zip(&kdv).map(|(a, b)| a + b).collect();
+        let mut f_int = f_int;
+        if d_i.iter().any(|&x| x != 0.0) {
+            let mut kdv = vec![0.0; n];
+            self.k_bulk.mul_vec(&dv, &mut kdv);
+            for (a, b) in f_int.iter_mut().zip(&kdv) {
+                *a += b;
+            }
+        }
         let gamma: Vec<usize> = cx.chol.gamma().to_vec();
         let m = gamma.len();
         let mut t = PassTracker::new(norm(f_ext), pass);
@@ -296,12 +300,14 @@ impl StaticSolver<'_> {
         // them, ‖f_int‖ and ε ‖ |K_t| |u| + |f_ext| ‖: the rows of I at the
         // start of the pass (their internal forces equal the external ones
         // while the interior follows the interface), the rows of Γ at every
-        // iterate (|K_ΓI| |u_I| from the start).
+        // iterate (|K_ΓI| |u_I| from the start). The rows of I and the
+        // columns of I in the rows of Γ are the bulk's alone.
         let mut in_gamma = vec![false; n];
         for &d in &gamma {
             in_gamma[d] = true;
         }
-        let (kp, ki, kv) = (kt.pattern().indptr(), kt.pattern().indices(), kt.values());
+        let kb = &self.k_bulk;
+        let (kp, ki, kv) = (kb.pattern().indptr(), kb.pattern().indices(), kb.values());
         let row_abs = |i: usize, only_interior: bool| -> f64 {
             (kp[i]..kp[i + 1])
                 .filter(|&q| !only_interior || !in_gamma[ki[q]])
