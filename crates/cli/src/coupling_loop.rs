@@ -43,8 +43,8 @@ use tecon_elastic::SolverState;
 use tecon_thermal::{HeatBalance, InterfacePointState, ThermalError, ThermalModel, ThetaScheme};
 
 use crate::driver::{
-    Contact, DriverError, Outcome, Procedure, Setup, State, ThermalInfo, ThermalMode, ThermalSetup,
-    ThermalState, run_stages,
+    Contact, DriverError, Outcome, Procedure, Setup, State, ThermalFeed, ThermalInfo, ThermalMode,
+    ThermalSetup, ThermalState, run_stages,
 };
 
 /// Staggered two-way coupling settings.
@@ -712,7 +712,14 @@ pub(crate) fn two_way<'s>(
     };
     // Later stages (e.g. operating pressure) from the coupled history.
     let clock = std::time::Instant::now();
-    run_stages(setup, &mut lp.contact, &[], 1, &mut states, pb)?;
+    run_stages(
+        setup,
+        &mut lp.contact,
+        &mut ThermalFeed::ready(Vec::new()),
+        1,
+        &mut states,
+        pb,
+    )?;
     lp.contact_seconds += clock.elapsed().as_secs_f64();
     pb.finish_and_clear();
     let mut notes = lp.contact.solver.notes().to_vec();

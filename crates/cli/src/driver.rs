@@ -333,7 +333,15 @@ fn progress(len: u64, show: bool) -> ProgressBar {
 /// contact state.
 const CONSTANT_TWO_WAY_NOTE: &str = "two-way coupling asked for, but no interface conductance depends on the contact (constant conductances only, without radiation): the temperatures do not depend on the contact, so the case was solved one-way (heat conduction first, the contact at the output times); a pressure- or gap-dependent law (`[interface.conductance]` with `law = ...`, or `tecon vessel --conductance contact`) makes the coupling two-way";
 
-/// Runs the analysis: heat conduction, then the stages' contact solves.
+/// Runs the analysis: heat conduction, and beside it the stages' contact
+/// solves.
+///
+/// One-way, the contact at an output time needs the temperatures up to that
+/// time only, so the heat conduction runs on a thread of its own and hands
+/// each output state over as soon as it is computed; the contact solves
+/// follow on this thread. Each side computes exactly what it computes alone
+/// (the same numbers), and the run takes about the longer of the two instead
+/// of their sum.
 pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     let n_out = match setup.thermal.as_ref().map(|t| &t.procedure) {
         Some(Procedure::Transient { times, .. }) => times.len(),
@@ -350,14 +358,56 @@ pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     }
     pb.set_message("heat conduction");
     let clock = std::time::Instant::now();
-    let (thermal_states, reference, thermal) = heat_conduction(setup, &pb)?;
-    let thermal_seconds = clock.elapsed().as_secs_f64();
-
-    let clock = std::time::Instant::now();
-    let mut contact = Contact::new(setup, reference)?;
-    let mut states: Vec<State> = Vec::new();
-    run_stages(setup, &mut contact, &thermal_states, 0, &mut states, &pb)?;
-    let contact_seconds = clock.elapsed().as_secs_f64();
+    let prepared = match &setup.thermal {
+        Some(th) => {
+            let system = th.model.assemble().map_err(DriverError::ThermalAssembly)?;
+            let reference = stress_free_reference(setup.mesh, th, &system)?;
+            Some((th, system, reference))
+        }
+        None => None,
+    };
+    let prepare_seconds = clock.elapsed().as_secs_f64();
+    let reference = prepared.as_ref().map(|p| p.2.clone());
+    // the contact side gave up: the heat conduction stops at its next step
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let (contact_side, heat_side) = std::thread::scope(|scope| {
+        let (send, incoming) = std::sync::mpsc::channel();
+        let heat = scope.spawn(|| {
+            let clock = std::time::Instant::now();
+            let info = match &prepared {
+                Some((th, system, _)) => heat_conduction(th, system, send, &stop, &pb),
+                None => Ok(ThermalInfo {
+                    mode: ThermalMode::None,
+                    steps: 0,
+                    max_balance_residual: None,
+                }),
+            };
+            info.map(|i| (i, clock.elapsed().as_secs_f64()))
+        });
+        let contact_side = (|| {
+            let clock = std::time::Instant::now();
+            let mut contact = Contact::new(setup, reference)?;
+            let mut feed = ThermalFeed::incoming(incoming);
+            let mut states: Vec<State> = Vec::new();
+            run_stages(setup, &mut contact, &mut feed, 0, &mut states, &pb)?;
+            let seconds = clock.elapsed().as_secs_f64() - feed.waited.as_secs_f64();
+            Ok::<_, DriverError>((contact, states, seconds))
+            // (`feed` drops here: a heat conduction still running sends
+            // into nothing)
+        })();
+        if contact_side.is_err() {
+            stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        let heat_side = match heat.join() {
+            Ok(r) => r,
+            Err(panic) => std::panic::resume_unwind(panic),
+        };
+        (contact_side, heat_side)
+    });
+    // A failed heat conduction comes first: the contact then saw its states
+    // end early.
+    let (thermal, heat_seconds) = heat_side?;
+    let (contact, states, contact_seconds) = contact_side?;
     pb.inc(1);
     pb.finish_and_clear();
     Ok(Outcome {
@@ -366,10 +416,57 @@ pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
         thermal,
         newton: contact.stats(),
         notes: [contact.solver.notes(), &notes[..]].concat(),
-        thermal_seconds,
+        thermal_seconds: prepare_seconds + heat_seconds,
         contact_seconds,
         coupling: None,
     })
+}
+
+/// The thermal states as the contact solves take them: all at hand, or
+/// arriving from the heat conduction that runs beside the contact.
+pub(crate) struct ThermalFeed {
+    states: Vec<ThermalState>,
+    incoming: Option<std::sync::mpsc::Receiver<ThermalState>>,
+    /// Time spent waiting for the heat conduction.
+    waited: std::time::Duration,
+}
+
+impl ThermalFeed {
+    /// States all at hand.
+    pub(crate) fn ready(states: Vec<ThermalState>) -> Self {
+        ThermalFeed {
+            states,
+            incoming: None,
+            waited: std::time::Duration::ZERO,
+        }
+    }
+
+    /// States sent by a heat conduction that is still running.
+    fn incoming(incoming: std::sync::mpsc::Receiver<ThermalState>) -> Self {
+        ThermalFeed {
+            states: Vec::new(),
+            incoming: Some(incoming),
+            waited: std::time::Duration::ZERO,
+        }
+    }
+
+    /// The `k`-th state, waiting for it if the heat conduction has not got
+    /// there yet; None past the last one.
+    fn get(&mut self, k: usize) -> Option<&ThermalState> {
+        while self.states.len() <= k {
+            let clock = std::time::Instant::now();
+            let next = self.incoming.as_ref().and_then(|r| r.recv().ok());
+            self.waited += clock.elapsed();
+            match next {
+                Some(s) => self.states.push(s),
+                None => {
+                    self.incoming = None;
+                    return None;
+                }
+            }
+        }
+        self.states.get(k)
+    }
 }
 
 /// The stages from `first` on: one contact solve per thermal state (or the
@@ -377,22 +474,24 @@ pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
 pub(crate) fn run_stages(
     setup: &Setup<'_>,
     contact: &mut Contact<'_>,
-    thermal_states: &[ThermalState],
+    feed: &mut ThermalFeed,
     first: usize,
     states: &mut Vec<State>,
     pb: &ProgressBar,
 ) -> Result<(), DriverError> {
     for (k, stage) in setup.stages.iter().enumerate().skip(first) {
         match stage.temperature {
-            StageTemperature::FollowThermal if thermal_states.is_empty() => {
-                pb.set_message(format!("contact: {}", stage.name));
-                states.push(contact.solve(k, stage, None, pb, true)?);
-            }
             StageTemperature::FollowThermal => {
-                for th in thermal_states {
+                if feed.get(0).is_none() {
+                    pb.set_message(format!("contact: {}", stage.name));
+                    states.push(contact.solve(k, stage, None, pb, true)?);
+                }
+                let mut i = 0;
+                while let Some(th) = feed.get(i) {
                     pb.set_message(format!("contact at t = {:.0} s", th.time));
                     states.push(contact.solve(k, stage, Some(th), pb, true)?);
                     pb.inc(1);
+                    i += 1;
                 }
             }
             StageTemperature::HoldLast => {
@@ -412,28 +511,26 @@ pub(crate) fn run_stages(
     Ok(())
 }
 
-type HeatConduction = (Vec<ThermalState>, Option<Vec<f64>>, ThermalInfo);
-
-/// Heat conduction of the whole procedure (one-way: before any contact solve).
-fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction, DriverError> {
-    let Some(th) = &setup.thermal else {
-        let info = ThermalInfo {
-            mode: ThermalMode::None,
-            steps: 0,
-            max_balance_residual: None,
-        };
-        return Ok((Vec::new(), None, info));
+/// Heat conduction of the whole procedure (one-way), each output state sent
+/// as soon as it is computed; it stops early when `stop` is set.
+fn heat_conduction(
+    th: &ThermalSetup<'_>,
+    system: &tecon_thermal::ThermalSystem<'_>,
+    send: std::sync::mpsc::Sender<ThermalState>,
+    stop: &std::sync::atomic::AtomicBool,
+    pb: &ProgressBar,
+) -> Result<ThermalInfo, DriverError> {
+    // (a contact side that gave up no longer receives: nothing to do then)
+    let deliver = |s: ThermalState| {
+        let _ = send.send(s);
     };
-    let system = th.model.assemble().map_err(DriverError::ThermalAssembly)?;
-    let reference = stress_free_reference(setup.mesh, th, &system)?;
-    let mut states = Vec::new();
     let info = match &th.procedure {
         Procedure::Held => {
             let t0 = system
                 .initial_temperature()
                 .ok_or(DriverError::NoInitialTemperature)?
                 .to_vec();
-            states.push(ThermalState {
+            deliver(ThermalState {
                 time: 0.0,
                 element_temperature: system.element_means(&t0),
                 temperature: t0,
@@ -448,7 +545,7 @@ fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction
         Procedure::Steady => {
             let s = system.solve_steady().map_err(DriverError::Steady)?;
             let res = s.balance.relative_residual();
-            states.push(ThermalState {
+            deliver(ThermalState {
                 time: 0.0,
                 temperature: s.temperature,
                 element_temperature: s.element_temperature,
@@ -465,18 +562,26 @@ fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction
             scheme,
             times,
         } => {
-            let summary = tecon_thermal::run_transient(&system, schedule, *scheme, times, |s| {
-                // report the requested output time (the stepper's clock
-                // carries round-off from summing steps)
-                let k = states.len();
-                states.push(ThermalState {
-                    time: times.get(k).copied().unwrap_or(s.time),
-                    temperature: s.temperature.clone(),
-                    element_temperature: s.element_temperature.clone(),
-                    heat_balance: Some(s.balance.relative_residual()),
-                });
-                pb.inc(1);
-            })
+            let mut k = 0;
+            let summary = tecon_thermal::run_transient_while(
+                system,
+                schedule,
+                *scheme,
+                times,
+                |s| {
+                    // report the requested output time (the stepper's clock
+                    // carries round-off from summing steps)
+                    deliver(ThermalState {
+                        time: times.get(k).copied().unwrap_or(s.time),
+                        temperature: s.temperature.clone(),
+                        element_temperature: s.element_temperature.clone(),
+                        heat_balance: Some(s.balance.relative_residual()),
+                    });
+                    k += 1;
+                    pb.inc(1);
+                },
+                || !stop.load(std::sync::atomic::Ordering::Relaxed),
+            )
             .map_err(DriverError::Transient)?;
             ThermalInfo {
                 mode: ThermalMode::Transient,
@@ -485,7 +590,7 @@ fn heat_conduction(setup: &Setup<'_>, pb: &ProgressBar) -> Result<HeatConduction
             }
         }
     };
-    Ok((states, Some(reference), info))
+    Ok(info)
 }
 
 /// The stress-free temperature T_ref,e of every element: the case's

@@ -675,7 +675,22 @@ pub fn run_transient<F: FnMut(&Snapshot)>(
     schedule: &TimeSchedule,
     scheme: ThetaScheme,
     output_times: &[f64],
+    on_output: F,
+) -> Result<TransientSummary, ThermalError> {
+    run_transient_while(system, schedule, scheme, output_times, on_output, || true)
+}
+
+/// As [`run_transient`], asking `keep_going` before every step: when it
+/// says no, the run stops there (its summary's `end_time` tells how far it
+/// got). For a consumer of the snapshots that may give up, e.g. a contact
+/// solve running beside the heat conduction that failed.
+pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
+    system: &ThermalSystem<'_>,
+    schedule: &TimeSchedule,
+    scheme: ThetaScheme,
+    output_times: &[f64],
     mut on_output: F,
+    keep_going: G,
 ) -> Result<TransientSummary, ThermalError> {
     let initial = system
         .initial_temperature()
@@ -712,6 +727,9 @@ pub fn run_transient<F: FnMut(&Snapshot)>(
     };
     emit(&stepper, &mut next, slack);
     for (k, &dt) in schedule.steps().iter().enumerate() {
+        if !keep_going() {
+            break;
+        }
         let theta = scheme.theta_for(k, schedule.steps());
         let tol = 1e-9 * dt;
         let step_end = stepper.time() + dt;
