@@ -40,7 +40,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::FemError;
 use crate::pattern::{CsrMatrix, SparsityPattern};
-use crate::solver::{CholeskySolver, schur_complement};
+use crate::solver::{CholeskySolver, LeadingFactor, schur_complement_and_leading};
 use crate::update::{SolveKind, UpdateStats};
 
 /// Rounds of iterative refinement of a corrected Schur solution.
@@ -59,8 +59,11 @@ pub struct CondensedCholesky {
     gamma: Vec<usize>,
     /// I dofs, sorted.
     interior: Vec<usize>,
-    /// Sparse Cholesky of A_II (pattern renumbered to I positions).
-    ii: CholeskySolver,
+    /// Elimination order of I (AMD of A_II): I positions.
+    ii_order: Vec<usize>,
+    /// L_II, the leading block of the factorisation that built C (in
+    /// `ii_order`; None: not condensed yet).
+    leading: Option<LeadingFactor>,
     /// Slot in the full matrix of every stored entry of A_II.
     ii_slots: Vec<usize>,
     /// Per Γ row: its entries in I columns (I position, slot), CSR-like.
@@ -154,7 +157,8 @@ impl CondensedCholesky {
             n,
             gamma,
             interior,
-            ii: CholeskySolver::analyse_for_refactorisation(ii_pattern)?,
+            ii_order: CholeskySolver::analyse(ii_pattern)?.ordering(),
+            leading: None,
             ii_slots,
             gi_ptr,
             gi_col,
@@ -219,7 +223,7 @@ impl CondensedCholesky {
         let m = self.gamma.len();
         // y = A_II⁻¹ b_I, s = b_Γ − A_ΓI y
         let mut y: Vec<f64> = self.interior.iter().map(|&d| rhs[d]).collect();
-        self.ii.solve(&mut y)?;
+        self.solve_interior(&mut y)?;
         let mut s: Vec<f64> = self.gamma.iter().map(|&d| rhs[d]).collect();
         for (a, sa) in s.iter_mut().enumerate() {
             for k in self.gi_ptr[a]..self.gi_ptr[a + 1] {
@@ -237,7 +241,7 @@ impl CondensedCholesky {
                 }
             }
         }
-        self.ii.solve(&mut t)?;
+        self.solve_interior(&mut t)?;
         for ((&d, yi), ti) in self.interior.iter().zip(&y).zip(&t) {
             rhs[d] = yi - ti;
         }
@@ -311,7 +315,20 @@ impl CondensedCholesky {
 
     /// x ← A_II⁻¹ x for a vector over I.
     pub fn solve_interior(&self, x: &mut [f64]) -> Result<(), FemError> {
-        self.ii.solve(x)
+        let leading = self.leading.as_ref().ok_or(FemError::NotFactorised)?;
+        if x.len() != leading.n() {
+            return Err(FemError::LengthMismatch {
+                what: "interior solve".into(),
+                got: x.len(),
+                expected: leading.n(),
+            });
+        }
+        let mut y: Vec<f64> = self.ii_order.iter().map(|&k| x[k]).collect();
+        leading.solve(&mut y)?;
+        for (&k, v) in self.ii_order.iter().zip(y) {
+            x[k] = v;
+        }
+        Ok(())
     }
 
     /// A_ΓI y for a vector y over I (the values of the last condensation).
@@ -365,28 +382,13 @@ impl CondensedCholesky {
     fn condense(&mut self, matrix: &CsrMatrix) -> Result<(), FemError> {
         self.constant_base = None;
         self.gg_base = None;
+        self.leading = None;
         let v = matrix.values();
-        let mut sub = CsrMatrix::zeros(self.ii_pattern().clone());
-        for (x, &k) in sub.values_mut().iter_mut().zip(&self.ii_slots) {
-            *x = v[k];
-        }
-        self.ii.factorise(&sub).map_err(|e| match e {
-            FemError::NotPositiveDefinite { pivot, dof, hint } => FemError::NotPositiveDefinite {
-                pivot,
-                dof: self.interior.get(dof).copied().unwrap_or(dof),
-                hint,
-            },
-            other => other,
-        })?;
         let m = self.gamma.len();
         // C = A_ΓΓ − S, with S from one factorisation that eliminates I (in
-        // A_II's own order) before Γ
-        let order: Vec<usize> = self
-            .ii
-            .ordering()
-            .into_iter()
-            .map(|k| self.interior[k])
-            .collect();
+        // A_II's own order) before Γ; its leading block serves the solves
+        // with A_II
+        let order: Vec<usize> = self.ii_order.iter().map(|&k| self.interior[k]).collect();
         let max_diag = self
             .gamma
             .iter()
@@ -394,7 +396,8 @@ impl CondensedCholesky {
             .map(|k| v[k].abs())
             .fold(0.0, f64::max);
         let shift = (SCHUR_SHIFT * max_diag).max(f64::MIN_POSITIVE);
-        let schur = schur_complement(matrix, &order, &self.gamma, shift)?;
+        let (schur, leading) = schur_complement_and_leading(matrix, &order, &self.gamma, shift)?;
+        self.leading = Some(leading);
         for (c, s) in self.c.iter_mut().zip(&schur) {
             *c = -s;
         }
@@ -422,10 +425,6 @@ impl CondensedCholesky {
         self.columns.clear();
         self.condensations += 1;
         Ok(())
-    }
-
-    fn ii_pattern(&self) -> &Arc<SparsityPattern> {
-        self.ii.pattern()
     }
 
     /// Solves S x = s in place, S = A_ΓΓ (values `gg`) − C.

@@ -266,6 +266,18 @@ pub fn schur_complement(
     gamma: &[usize],
     shift: f64,
 ) -> Result<Vec<f64>, FemError> {
+    schur_complement_and_leading(matrix, interior, gamma, shift).map(|(s, _)| s)
+}
+
+/// [`schur_complement`], keeping the factor's leading block L_II for
+/// solves with A_II ([`LeadingFactor`]): A_II need not be factorised a
+/// second time.
+pub fn schur_complement_and_leading(
+    matrix: &CsrMatrix,
+    interior: &[usize],
+    gamma: &[usize],
+    shift: f64,
+) -> Result<(Vec<f64>, LeadingFactor), FemError> {
     use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
     use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
     let pattern = matrix.pattern();
@@ -328,6 +340,8 @@ pub fn schur_complement(
             hint: "check for an unconstrained body".into(),
         });
     }
+    drop(mem);
+    drop(values);
     let SymbolicCholeskyRaw::Supernodal(sym) = symbolic.raw() else {
         return Err(FemError::Solver("expected a supernodal factor".into()));
     };
@@ -389,7 +403,135 @@ pub fn schur_complement(
     for a in 0..m {
         out[a * m + a] -= shift;
     }
-    Ok(out)
+    // keep the values of the columns of I only (a prefix: the supernodes
+    // are stored in column order)
+    let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
+    let (val_ptr, row_ptr) = (sym.col_ptr_for_val(), sym.col_ptr_for_row_idx());
+    let mut keep = 0;
+    for s in 0..sym.n_supernodes() {
+        let (b, e) = (begin[s], end[s]);
+        if b < ni {
+            let rows = (e - b) + (row_ptr[s + 1] - row_ptr[s]);
+            keep = keep.max(val_ptr[s] + rows * (e.min(ni) - b));
+        }
+    }
+    drop(l);
+    l_values.truncate(keep);
+    l_values.shrink_to_fit();
+    Ok((
+        out,
+        LeadingFactor {
+            symbolic,
+            l_values,
+            ni,
+        },
+    ))
+}
+
+/// The leading block L_II of a sparse Cholesky factor of a matrix ordered
+/// [I, Γ] (see [`schur_complement_and_leading`]): solves with A_II = L_II
+/// L_IIᵀ, in the factor's order of I. Only the values of I's columns are
+/// kept.
+pub struct LeadingFactor {
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    ni: usize,
+}
+
+impl std::fmt::Debug for LeadingFactor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LeadingFactor")
+            .field("ni", &self.ni)
+            .field("stored", &self.l_values.len())
+            .finish()
+    }
+}
+
+impl LeadingFactor {
+    /// Number of I dofs.
+    pub fn n(&self) -> usize {
+        self.ni
+    }
+
+    /// Stored entries of L_II.
+    pub fn nnz(&self) -> usize {
+        self.l_values.len()
+    }
+
+    /// x ← A_II⁻¹ x, x over I in the factor's elimination order.
+    pub fn solve(&self, x: &mut [f64]) -> Result<(), FemError> {
+        use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+        let ni = self.ni;
+        if x.len() != ni {
+            return Err(FemError::LengthMismatch {
+                what: "interior solve".into(),
+                got: x.len(),
+                expected: ni,
+            });
+        }
+        let SymbolicCholeskyRaw::Supernodal(sym) = self.symbolic.raw() else {
+            return Err(FemError::Solver("expected a supernodal factor".into()));
+        };
+        let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
+        let (val_ptr, row_ptr, row_idx) = (
+            sym.col_ptr_for_val(),
+            sym.col_ptr_for_row_idx(),
+            sym.row_idx(),
+        );
+        // supernode s: columns b..b + wi of I, its values (rows × wi, column-major)
+        let node = |s: usize| {
+            let (b, e) = (begin[s], end[s]);
+            let w = e - b;
+            let wi = e.min(ni) - b;
+            let below = &row_idx[row_ptr[s]..row_ptr[s + 1]];
+            let rows = w + below.len();
+            let v = &self.l_values[val_ptr[s]..val_ptr[s] + rows * wi];
+            (b, w, wi, below, rows, v)
+        };
+        let live: Vec<usize> = (0..sym.n_supernodes()).filter(|&s| begin[s] < ni).collect();
+        // forward: L_II y = x (rows of Γ below are dropped)
+        for &s in &live {
+            let (b, w, wi, below, rows, v) = node(s);
+            let lm = faer::MatRef::from_column_major_slice(v, rows, wi);
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+                lm.submatrix(0, 0, wi, wi),
+                MatMut::from_column_major_slice_mut(&mut x[b..b + wi], wi, 1),
+                Par::Seq,
+            );
+            for j in 0..wi {
+                let xj = x[b + j];
+                if xj != 0.0 {
+                    let col = &v[j * rows + w..(j + 1) * rows];
+                    for (&r, &l) in below.iter().zip(col) {
+                        if r < ni {
+                            x[r] -= l * xj;
+                        }
+                    }
+                }
+            }
+        }
+        // backward: L_IIᵀ x = y
+        for &s in live.iter().rev() {
+            let (b, w, wi, below, rows, v) = node(s);
+            for j in 0..wi {
+                let col = &v[j * rows + w..(j + 1) * rows];
+                let mut acc = 0.0;
+                for (&r, &l) in below.iter().zip(col) {
+                    if r < ni {
+                        acc += l * x[r];
+                    }
+                }
+                x[b + j] -= acc;
+            }
+            let lm = faer::MatRef::from_column_major_slice(v, rows, wi);
+            faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+                lm.submatrix(0, 0, wi, wi).transpose(),
+                MatMut::from_column_major_slice_mut(&mut x[b..b + wi], wi, 1),
+                Par::Seq,
+            );
+        }
+        check_finite("solution", x)
+    }
 }
 
 /// Sparse LU with partial pivoting of a general square matrix.
