@@ -11,6 +11,11 @@
 //!   → Outcome (states, statistics, notes, timings) → writers
 //! ```
 //!
+//! One-way, the heat conduction runs on a thread of its own, ahead of the
+//! contact solves: each output state goes to the contact as soon as it is
+//! computed ([`ThermalFeed`]). Two-way coupling alternates the two
+//! ([`crate::coupling_loop`]).
+//!
 //! Errors are typed ([`DriverError`]) and name the phase (and the time of a
 //! failed contact solve); the front doors add the case file or option.
 
@@ -883,4 +888,46 @@ pub fn solve_mechanical(
         on_mesh_stress(setup, s.stresses()),
         on_mesh_displacement(setup, s.displacement()),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(time: f64) -> ThermalState {
+        ThermalState {
+            time,
+            temperature: vec![time; 3],
+            element_temperature: vec![time],
+            heat_balance: None,
+        }
+    }
+
+    /// Goal: the contact side gets the states in order as they arrive,
+    /// waits for one not yet computed, and sees the end when the heat
+    /// conduction is done (or gave up).
+    #[test]
+    fn a_feed_hands_over_the_states_in_order_and_ends_with_the_sender() {
+        let (send, incoming) = std::sync::mpsc::channel();
+        let heat = std::thread::spawn(move || {
+            for t in [1.0, 10.0, 60.0] {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+                send.send(state(t)).unwrap();
+            }
+        });
+        let mut feed = ThermalFeed::incoming(incoming);
+        assert_eq!(feed.get(1).map(|s| s.time), Some(10.0));
+        assert_eq!(
+            feed.get(0).map(|s| s.time),
+            Some(1.0),
+            "kept for later stages"
+        );
+        assert_eq!(feed.get(2).map(|s| s.temperature[0]), Some(60.0));
+        assert!(feed.get(3).is_none());
+        assert!(feed.waited > std::time::Duration::ZERO);
+        heat.join().unwrap();
+        let mut ready = ThermalFeed::ready(vec![state(5.0)]);
+        assert_eq!(ready.get(0).map(|s| s.time), Some(5.0));
+        assert!(ready.get(1).is_none());
+    }
 }

@@ -510,8 +510,15 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         );
     }
     s += &format!(
-        "time: {:.2} s (heat conduction {:.2} s, contact {:.2} s)\n",
-        run.seconds, run.thermal_seconds, run.contact_seconds
+        "time: {:.2} s (heat conduction {:.2} s, contact {:.2} s{})\n",
+        run.seconds,
+        run.thermal_seconds,
+        run.contact_seconds,
+        if run.coupling.is_some() {
+            ""
+        } else {
+            "; side by side"
+        }
     );
     for n in &run.notes {
         s += &format!("note: {n}\n");

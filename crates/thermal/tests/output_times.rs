@@ -9,12 +9,12 @@
 //! 1132 °C, the rest at 21 °C, convection inside and outside.
 
 use tecon_mesh::{VesselGeometry, VesselMeshSpec, vessel_mesh};
-use tecon_thermal::{EdgeBc, Material, ThermalModel, ThetaScheme, TimeSchedule};
+use tecon_thermal::{
+    EdgeBc, Material, ThermalModel, ThetaScheme, TimeSchedule, run_transient, run_transient_while,
+};
 
-#[test]
-fn snapshots_carry_the_requested_times_bitwise() {
-    let mesh = vessel_mesh(&VesselGeometry::default(), &VesselMeshSpec::paper()).unwrap();
-    let mut model = ThermalModel::new(&mesh);
+fn paper_model(mesh: &tecon_mesh::Mesh) -> ThermalModel<'_> {
+    let mut model = ThermalModel::new(mesh);
     model
         .set_material_everywhere(Material::vessel_steel())
         .unwrap()
@@ -28,6 +28,13 @@ fn snapshots_carry_the_requested_times_bitwise() {
         .unwrap()
         .set_initial_region("weld", 1132.0)
         .unwrap();
+    model
+}
+
+#[test]
+fn snapshots_carry_the_requested_times_bitwise() {
+    let mesh = vessel_mesh(&VesselGeometry::default(), &VesselMeshSpec::paper()).unwrap();
+    let model = paper_model(&mesh);
     let schedule = TimeSchedule::segments(&[
         (1.0, 0.02),
         (10.0, 0.2),
@@ -48,4 +55,48 @@ fn snapshots_carry_the_requested_times_bitwise() {
         })
         .unwrap();
     assert_eq!(times, outs, "bitwise the requested times");
+}
+
+/// Goal: a run told to stop (a consumer of its snapshots gave up) stops at
+/// the next step, with the snapshots before it those of a full run.
+#[test]
+fn a_run_told_to_stop_stops_at_its_next_step() {
+    let mesh = vessel_mesh(&VesselGeometry::default(), &VesselMeshSpec::paper()).unwrap();
+    let system = paper_model(&mesh).assemble().unwrap();
+    let schedule = TimeSchedule::segments(&[(1.0, 0.1), (10.0, 1.0)]).unwrap();
+    let outs = [0.5, 1.0, 5.0, 10.0];
+    let scheme = ThetaScheme::crank_nicolson();
+    let mut full = Vec::new();
+    let whole = run_transient(&system, &schedule, scheme, &outs, |s| full.push(s.clone())).unwrap();
+    assert_eq!(whole.steps, 19);
+    assert_eq!(full.len(), 4);
+    // stop once the second snapshot (t = 1 s, after 10 steps) is out
+    let seen = std::cell::Cell::new(0);
+    let mut part = Vec::new();
+    let stopped = run_transient_while(
+        &system,
+        &schedule,
+        scheme,
+        &outs,
+        |s| {
+            part.push(s.clone());
+            seen.set(part.len());
+        },
+        || seen.get() < 2,
+    )
+    .unwrap();
+    assert_eq!(stopped.steps, 10, "no step after the stop");
+    assert!(
+        (stopped.end_time - 1.0).abs() < 1e-12,
+        "{}",
+        stopped.end_time
+    );
+    assert_eq!(part.len(), 2);
+    for (a, b) in part.iter().zip(&full) {
+        assert_eq!(a.time, b.time);
+        assert_eq!(
+            a.temperature, b.temperature,
+            "the same bits as the full run"
+        );
+    }
 }
