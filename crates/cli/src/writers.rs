@@ -279,25 +279,40 @@ pub fn write_states(
     states: &[State],
     files: StateFiles<'_>,
 ) -> CliResult<Vec<String>> {
+    // the states' files are independent: written in parallel (large
+    // meshes spend most of their output time formatting the VTU text)
+    use rayon::prelude::*;
+    let per_state: Vec<CliResult<(Vec<String>, Option<(f64, String)>)>> = states
+        .par_iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let mut names = Vec::new();
+            let mut entry = None;
+            if files.csv_nodal {
+                let name = format!("nodal_{k:03}.csv");
+                write(&dir.join(&name), &nodal_csv(mesh, r))?;
+                names.push(name);
+            }
+            if files.csv_interface && !r.interface.is_empty() {
+                let name = format!("interface_{k:03}.csv");
+                write(&dir.join(&name), &interface_csv(interfaces, r))?;
+                names.push(name);
+            }
+            if files.vtk {
+                let name = format!("{}_{k:03}.vtu", files.vtu_stem);
+                write_state_vtu(mesh, &dir.join(&name), r)?;
+                entry = Some((r.time, name.clone()));
+                names.push(name);
+            }
+            Ok((names, entry))
+        })
+        .collect();
     let mut written = Vec::new();
     let mut pvd = Vec::new();
-    for (k, r) in states.iter().enumerate() {
-        if files.csv_nodal {
-            let name = format!("nodal_{k:03}.csv");
-            write(&dir.join(&name), &nodal_csv(mesh, r))?;
-            written.push(name);
-        }
-        if files.csv_interface && !r.interface.is_empty() {
-            let name = format!("interface_{k:03}.csv");
-            write(&dir.join(&name), &interface_csv(interfaces, r))?;
-            written.push(name);
-        }
-        if files.vtk {
-            let name = format!("{}_{k:03}.vtu", files.vtu_stem);
-            write_state_vtu(mesh, &dir.join(&name), r)?;
-            pvd.push((r.time, name.clone()));
-            written.push(name);
-        }
+    for r in per_state {
+        let (names, entry) = r?;
+        written.extend(names);
+        pvd.extend(entry);
     }
     if !pvd.is_empty() {
         write_pvd(dir.join(files.pvd), &pvd)?;

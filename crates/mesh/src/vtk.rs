@@ -225,8 +225,10 @@ fn grid_string(
     }
     s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
     for (_, c) in cells {
-        let line: Vec<String> = c.iter().map(|v| v.to_string()).collect();
-        let _ = writeln!(s, "{}", line.join(" "));
+        for (i, v) in c.iter().enumerate() {
+            let _ = write!(s, "{}{v}", if i == 0 { "" } else { " " });
+        }
+        s.push('\n');
     }
     s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
     let mut off = 0;
@@ -277,8 +279,10 @@ fn write_field(s: &mut String, name: &str, f: &Field<'_>) {
                 "<DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{n}\" format=\"ascii\">"
             );
             for row in values.chunks(*n) {
-                let line: Vec<String> = row.iter().map(|x| format!("{x:e}")).collect();
-                let _ = writeln!(s, "{}", line.join(" "));
+                for (i, x) in row.iter().enumerate() {
+                    let _ = write!(s, "{}{x:e}", if i == 0 { "" } else { " " });
+                }
+                s.push('\n');
             }
         }
     }
