@@ -282,7 +282,9 @@ pub fn write_states(
     // the states' files are independent: written in parallel (large
     // meshes spend most of their output time formatting the VTU text)
     use rayon::prelude::*;
-    let per_state: Vec<CliResult<(Vec<String>, Option<(f64, String)>)>> = states
+    // per state: the names written and its `.pvd` entry
+    type Written = (Vec<String>, Option<(f64, String)>);
+    let per_state: Vec<CliResult<Written>> = states
         .par_iter()
         .enumerate()
         .map(|(k, r)| {
