@@ -5,15 +5,15 @@
 //!
 //! The estimate of a thermoelastic contact analysis is fitted to the peak
 //! resident size of `tecon vessel` (release build, plane strain, one-way,
-//! the heat conduction running beside the contact solves): 58 MB at 8 704
-//! triangles (level 3), 197 MB at 34 816 (level 4), 492 MB at 99 144
-//! (`t1e5`), 683 MB at 139 264 (level 5) and 5.34 GB at 1 005 856 (`t1e6`);
-//! at order 2, 758 MB at 44 672 (g2) and 5.94 GB at 251 464 (`t2.5e5
+//! the heat conduction running beside the contact solves): 55 MB at 8 704
+//! triangles (level 3), 187 MB at 34 816 (level 4), 501 MB at 99 144
+//! (`t1e5`), 683 MB at 139 264 (level 5) and 4.94 GB at 1 005 856 (`t1e6`);
+//! at order 2, 667 MB at 44 672 (g2) and 5.15 GB at 251 464 (`t2.5e5
 //! --order 2`). The sparse Cholesky factors grow like n log n on these
 //! meshes, so the estimate is `16 MB + T · (3300 + 150 log₂ T)` bytes for T
-//! three-node triangles (6 % over the measured peak at levels 3 and 4, 19–22
-//! % over at `t1e5`, level 5 and `t1e6`) and 4.5 times the per-triangle part
-//! for six-node triangles (four times the unknowns; 14 % over at `t2.5e5`).
+//! three-node triangles (11–28 % over the measured peaks) and 4.5 times the
+//! per-triangle part for six-node triangles (four times the unknowns; 32 %
+//! over at `t2.5e5`, 70 % at g2).
 //!
 //! The memory available is the smaller of `MemAvailable` (/proc/meminfo)
 //! and the address-space limit of the process (`ulimit -v`,
@@ -130,13 +130,13 @@ mod tests {
         // measured peak resident sizes of `tecon vessel --mesh 3/4/t1e5/5/t1e6`
         // and, at order 2, g2 and `t2.5e5 --order 2`
         for (t, order, measured) in [
-            (8_704, 1, 58.0e6),
-            (34_816, 1, 197e6),
-            (99_144, 1, 492e6),
+            (8_704, 1, 55.5e6),
+            (34_816, 1, 187e6),
+            (99_144, 1, 501e6),
             (139_264, 1, 683e6),
-            (1_005_856, 1, 5.34e9),
-            (44_672, 2, 758e6),
-            (251_464, 2, 5.94e9),
+            (1_005_856, 1, 4.94e9),
+            (44_672, 2, 667e6),
+            (251_464, 2, 5.15e9),
         ] {
             let e = analysis_bytes(t, order) as f64;
             assert!(

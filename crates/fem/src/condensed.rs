@@ -396,10 +396,12 @@ impl CondensedCholesky {
             .map(|k| v[k].abs())
             .fold(0.0, f64::max);
         let shift = (SCHUR_SHIFT * max_diag).max(f64::MIN_POSITIVE);
-        let (schur, leading) = schur_complement_and_leading(matrix, &order, &self.gamma, shift)?;
+        // S into the storage of C, then C = A_ΓΓ − S
+        let leading =
+            schur_complement_and_leading(matrix, &order, &self.gamma, shift, &mut self.c)?;
         self.leading = Some(leading);
-        for (c, s) in self.c.iter_mut().zip(&schur) {
-            *c = -s;
+        for c in self.c.iter_mut() {
+            *c = -*c;
         }
         for a in 0..m {
             for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {

@@ -266,18 +266,21 @@ pub fn schur_complement(
     gamma: &[usize],
     shift: f64,
 ) -> Result<Vec<f64>, FemError> {
-    schur_complement_and_leading(matrix, interior, gamma, shift).map(|(s, _)| s)
+    let mut out = vec![0.0; gamma.len() * gamma.len()];
+    schur_complement_and_leading(matrix, interior, gamma, shift, &mut out)?;
+    Ok(out)
 }
 
-/// [`schur_complement`], keeping the factor's leading block L_II for
-/// solves with A_II ([`LeadingFactor`]): A_II need not be factorised a
-/// second time.
+/// [`schur_complement`] into `out` (m × m, column-major), keeping the
+/// factor's leading block L_II for solves with A_II ([`LeadingFactor`]):
+/// A_II need not be factorised a second time.
 pub fn schur_complement_and_leading(
     matrix: &CsrMatrix,
     interior: &[usize],
     gamma: &[usize],
     shift: f64,
-) -> Result<(Vec<f64>, LeadingFactor), FemError> {
+    out: &mut [f64],
+) -> Result<LeadingFactor, FemError> {
     use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
     use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
     let pattern = matrix.pattern();
@@ -345,31 +348,56 @@ pub fn schur_complement_and_leading(
     let SymbolicCholeskyRaw::Supernodal(sym) = symbolic.raw() else {
         return Err(FemError::Solver("expected a supernodal factor".into()));
     };
-    // the trailing m × m block of L (lower triangle), column-major
-    let mut l = vec![0.0; m * m];
-    let llt = SupernodalLltRef::<'_, usize, f64>::new(sym, &l_values);
-    for s in 0..sym.n_supernodes() {
-        let node = llt.supernode(s);
-        let (start, val, below) = (node.start(), node.val(), node.pattern());
-        let width = val.ncols();
-        for j in 0..width {
-            let col = start + j;
-            if col < ni {
-                continue;
-            }
-            let jl = col - ni;
-            for i in j..width {
-                l[jl * m + (start + i - ni)] = val[(i, j)];
-            }
-            for (q, &row) in below.iter().enumerate() {
-                l[jl * m + (row - ni)] = val[(width + q, j)];
+    if out.len() != m * m {
+        return Err(FemError::LengthMismatch {
+            what: "Schur complement".into(),
+            got: out.len(),
+            expected: m * m,
+        });
+    }
+    let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
+    let (val_ptr, row_ptr) = (sym.col_ptr_for_val(), sym.col_ptr_for_row_idx());
+    // the trailing m × m block of L (lower triangle), column-major: Γ's
+    // own supernode when it is one (used in place, its upper triangle
+    // zeroed), a copy otherwise
+    let whole = (0..sym.n_supernodes())
+        .find(|&s| begin[s] == ni && end[s] == n && row_ptr[s + 1] == row_ptr[s])
+        .map(|s| val_ptr[s]);
+    if let Some(off) = whole {
+        for j in 0..m {
+            l_values[off + j * m..off + j * m + j].fill(0.0);
+        }
+    }
+    let mut copy = Vec::new();
+    if whole.is_none() {
+        copy = vec![0.0; m * m];
+        let llt = SupernodalLltRef::<'_, usize, f64>::new(sym, &l_values);
+        for s in 0..sym.n_supernodes() {
+            let node = llt.supernode(s);
+            let (start, val, below) = (node.start(), node.val(), node.pattern());
+            let width = val.ncols();
+            for j in 0..width {
+                let col = start + j;
+                if col < ni {
+                    continue;
+                }
+                let jl = col - ni;
+                for i in j..width {
+                    copy[jl * m + (start + i - ni)] = val[(i, j)];
+                }
+                for (q, &row) in below.iter().enumerate() {
+                    copy[jl * m + (row - ni)] = val[(width + q, j)];
+                }
             }
         }
     }
+    let l: &[f64] = match whole {
+        Some(off) => &l_values[off..off + m * m],
+        None => &copy,
+    };
     // S = L Lᵀ − shift I (its lower triangle), in fixed blocks of columns (one sequential product
     // each, on any thread: the same bits whatever the thread count)
-    let lm = faer::MatRef::from_column_major_slice(&l, m, m);
-    let mut out = vec![0.0; m * m];
+    let lm = faer::MatRef::from_column_major_slice(l, m, m);
     {
         use rayon::prelude::*;
         out.par_chunks_mut(SCHUR_BLOCK * m.max(1))
@@ -403,10 +431,9 @@ pub fn schur_complement_and_leading(
     for a in 0..m {
         out[a * m + a] -= shift;
     }
+    drop(copy);
     // keep the values of the columns of I only (a prefix: the supernodes
     // are stored in column order)
-    let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
-    let (val_ptr, row_ptr) = (sym.col_ptr_for_val(), sym.col_ptr_for_row_idx());
     let mut keep = 0;
     for s in 0..sym.n_supernodes() {
         let (b, e) = (begin[s], end[s]);
@@ -415,17 +442,13 @@ pub fn schur_complement_and_leading(
             keep = keep.max(val_ptr[s] + rows * (e.min(ni) - b));
         }
     }
-    drop(l);
     l_values.truncate(keep);
     l_values.shrink_to_fit();
-    Ok((
-        out,
-        LeadingFactor {
-            symbolic,
-            l_values,
-            ni,
-        },
-    ))
+    Ok(LeadingFactor {
+        symbolic,
+        l_values,
+        ni,
+    })
 }
 
 /// The leading block L_II of a sparse Cholesky factor of a matrix ordered

@@ -726,11 +726,23 @@ pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
         }
     };
     emit(&stepper, &mut next, slack);
-    for (k, &dt) in schedule.steps().iter().enumerate() {
+    let steps = schedule.steps();
+    let thetas: Vec<f64> = (0..steps.len())
+        .map(|k| scheme.theta_for(k, steps))
+        .collect();
+    // the last step that uses each (Δt, θ): a factorisation no later step
+    // uses is dropped (the segments of a schedule do not come back; kept,
+    // they held memory for nothing, e.g. 1.1 GB of 506 198 nodes at order 2)
+    let mut last_use: std::collections::BTreeMap<(u64, u64), usize> = Default::default();
+    for (k, (dt, theta)) in steps.iter().zip(&thetas).enumerate() {
+        last_use.insert((dt.to_bits(), theta.to_bits()), k);
+    }
+    for (k, &dt) in steps.iter().enumerate() {
         if !keep_going() {
             break;
         }
-        let theta = scheme.theta_for(k, schedule.steps());
+        let theta = thetas[k];
+        stepper.retain_operators(|a, b| last_use.get(&(a, b)).is_some_and(|&j| j >= k));
         let tol = 1e-9 * dt;
         let step_end = stepper.time() + dt;
         let mut split = false;

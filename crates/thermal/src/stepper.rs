@@ -150,6 +150,13 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
         }
     }
 
+    /// Drops the factorisations of the (Δt, θ) pairs for which `keep`
+    /// (given the bits of Δt and θ) says no: a schedule that will not use
+    /// them again need not hold their memory.
+    pub fn retain_operators(&mut self, keep: impl Fn(u64, u64) -> bool) {
+        self.pool.retain(|f| keep(f.key.0, f.key.1));
+    }
+
     /// Current nodal temperatures.
     pub fn temperature(&self) -> &[f64] {
         &self.temperature
