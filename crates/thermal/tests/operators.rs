@@ -72,6 +72,19 @@ fn one_factorisation_per_distinct_step_and_theta() {
     }
     assert_eq!(st.stats().factorisations, 6);
     assert_eq!(st.stats().analyses, 1);
+    // Dropped operators are factorised again when a step needs them; the
+    // kept one is reused.
+    let mut st = system
+        .stepper(system.initial_temperature().unwrap().to_vec(), 0.0)
+        .unwrap();
+    st.step(0.5, 1.0).unwrap();
+    st.step(0.25, 1.0).unwrap();
+    assert_eq!(st.stats().factorisations, 2);
+    st.retain_operators(|dt, _| dt == 0.25f64.to_bits());
+    st.step(0.25, 1.0).unwrap();
+    assert_eq!(st.stats().factorisations, 2, "the kept one reused");
+    st.step(0.5, 1.0).unwrap();
+    assert_eq!(st.stats().factorisations, 3, "the dropped one factorised anew");
 }
 
 /// A stepper sharing the symbolic analysis of a solver made on another
