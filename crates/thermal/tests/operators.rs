@@ -84,7 +84,11 @@ fn one_factorisation_per_distinct_step_and_theta() {
     st.step(0.25, 1.0).unwrap();
     assert_eq!(st.stats().factorisations, 2, "the kept one reused");
     st.step(0.5, 1.0).unwrap();
-    assert_eq!(st.stats().factorisations, 3, "the dropped one factorised anew");
+    assert_eq!(
+        st.stats().factorisations,
+        3,
+        "the dropped one factorised anew"
+    );
 }
 
 /// A stepper sharing the symbolic analysis of a solver made on another
