@@ -692,4 +692,67 @@ mod tests {
             }
         }
     }
+
+    /// Goal: S and the solves with A_II are right also when the factor's
+    /// last supernode holds an interior column with the Γ ones (dof 0 is
+    /// coupled to every Γ dof, Γ is dense, and 0 is eliminated last among I).
+    #[test]
+    fn the_leading_block_solves_with_a_ii_also_across_a_shared_supernode() {
+        let n = 6;
+        let gamma = [1usize, 2, 3, 4];
+        let mut pairs = vec![5usize, 0];
+        for &g in &gamma {
+            pairs.extend([0, g]);
+            for &h in &gamma {
+                if g < h {
+                    pairs.extend([g, h]);
+                }
+            }
+        }
+        let pattern = std::sync::Arc::new(SparsityPattern::from_blocks(n, &[(2, &pairs)]).unwrap());
+        let mut a = CsrMatrix::zeros(pattern.clone());
+        for (k, w) in pairs.chunks(2).enumerate() {
+            let (i, j) = (w[0], w[1]);
+            let v = 1.0 + 0.1 * k as f64;
+            for (r, c, x) in [(i, i, v), (j, j, v), (i, j, -v), (j, i, -v)] {
+                let s = a.pattern().slot(r, c).unwrap();
+                a.values_mut()[s] += x;
+            }
+        }
+        // held at dof 5 (and a little everywhere): definite
+        for d in 0..n {
+            let s = a.pattern().slot(d, d).unwrap();
+            a.values_mut()[s] += if d == 5 { 5.0 } else { 0.01 };
+        }
+        let interior = [5usize, 0];
+        let mut s = vec![0.0; 16];
+        let leading = schur_complement_and_leading(&a, &interior, &gamma, 1e-8, &mut s).unwrap();
+        assert_eq!(leading.n(), 2);
+        let d = a.to_dense();
+        let ii = d.select_rows(&interior).select_columns(&interior);
+        let gi = d.select_rows(&gamma).select_columns(&interior);
+        let gg = d.select_rows(&gamma).select_columns(&gamma);
+        let want = &gg - &gi * ii.clone().lu().solve(&gi.transpose()).unwrap();
+        for r in 0..4 {
+            for c in 0..4 {
+                let err = (s[c * 4 + r] - want[(r, c)]).abs();
+                assert!(err < 1e-12 * want.amax(), "S ({r}, {c}) {err:e}");
+            }
+        }
+        // A_II x = b, in the elimination order [5, 0]
+        let b = [0.7, -1.3];
+        let mut x = b.to_vec();
+        leading.solve(&mut x).unwrap();
+        let exact = ii
+            .lu()
+            .solve(&nalgebra::DVector::from_row_slice(&b))
+            .unwrap();
+        for k in 0..2 {
+            assert!((x[k] - exact[k]).abs() < 1e-13 * exact.amax(), "x[{k}]");
+        }
+        assert!(
+            leading.solve(&mut [0.0; 3]).is_err(),
+            "a wrong length is refused"
+        );
+    }
 }
