@@ -14,9 +14,11 @@
 //!       [A_ΓI  A_ΓΓ]
 //! ```
 //!
-//! `A_II` is factorised (sparse Cholesky) and the dense `C` (m × m, m = |Γ|)
-//! is computed once, from a second factorisation of A that eliminates I
-//! before Γ (its trailing block is the factor of S); they are reused as
+//! One sparse Cholesky factorisation of A that eliminates I (in A_II's own
+//! minimum-degree order) before Γ gives both: its trailing block is the
+//! factor of S, from which the dense `C` (m × m, m = |Γ|) is built, and its
+//! leading block is the factor of A_II, kept for the interior solves
+//! ([`crate::solver::LeadingFactor`]); they are reused as
 //! long as the rows and columns of I keep their values (checked bitwise at
 //! every solve). A system is then solved by
 //!
@@ -189,7 +191,7 @@ impl CondensedCholesky {
         self.stats
     }
 
-    /// How many times A_II was factorised and C built.
+    /// How many times the bulk was factorised and C built.
     pub fn condensations(&self) -> usize {
         self.condensations
     }
@@ -252,7 +254,7 @@ impl CondensedCholesky {
         Ok(kind)
     }
 
-    /// Condenses `matrix` (factorises A_II and builds C) unless its rows
+    /// Condenses `matrix` (factorises it [I, Γ] and builds C) unless its rows
     /// and columns of I hold the values of the last condensation; true if
     /// it condensed anew. For the Γ-space operations below.
     pub fn prepare(&mut self, matrix: &CsrMatrix) -> Result<bool, FemError> {
@@ -378,7 +380,8 @@ impl CondensedCholesky {
         bits == 0
     }
 
-    /// Factorises A_II and builds C; the dense factor is dropped.
+    /// Factorises the matrix [I, Γ] (keeping L_II) and builds C; the dense
+    /// factor of S is dropped.
     fn condense(&mut self, matrix: &CsrMatrix) -> Result<(), FemError> {
         self.constant_base = None;
         self.gg_base = None;

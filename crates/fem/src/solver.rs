@@ -293,6 +293,13 @@ pub fn schur_complement_and_leading(
             expected: n,
         });
     }
+    if out.len() != m * m {
+        return Err(FemError::LengthMismatch {
+            what: "Schur complement".into(),
+            got: out.len(),
+            expected: m * m,
+        });
+    }
     let fwd: Vec<usize> = interior.iter().chain(gamma).copied().collect();
     let mut inv = vec![usize::MAX; n];
     for (k, &d) in fwd.iter().enumerate() {
@@ -348,13 +355,6 @@ pub fn schur_complement_and_leading(
     let SymbolicCholeskyRaw::Supernodal(sym) = symbolic.raw() else {
         return Err(FemError::Solver("expected a supernodal factor".into()));
     };
-    if out.len() != m * m {
-        return Err(FemError::LengthMismatch {
-            what: "Schur complement".into(),
-            got: out.len(),
-            expected: m * m,
-        });
-    }
     let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
     let (val_ptr, row_ptr) = (sym.col_ptr_for_val(), sym.col_ptr_for_row_idx());
     // the trailing m × m block of L (lower triangle), column-major: Γ's
