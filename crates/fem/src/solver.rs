@@ -754,5 +754,10 @@ mod tests {
             leading.solve(&mut [0.0; 3]).is_err(),
             "a wrong length is refused"
         );
+        let mut short = vec![0.0; 15];
+        assert!(
+            schur_complement_and_leading(&a, &interior, &gamma, 1e-8, &mut short).is_err(),
+            "a wrong output size is refused"
+        );
     }
 }
