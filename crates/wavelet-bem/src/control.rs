@@ -37,25 +37,33 @@ use crate::geometry::Section;
 use crate::solve::{MaxShear, Method, Options, TorsionSolution, solve};
 use crate::warping::Warping;
 
-/// One solved resolution: the solution, its τ_max and its warping outputs.
-type Solved = (TorsionSolution, MaxShear, Warping);
+/// One solved resolution: the solution, its τ_max (None: not computed, a
+/// singular τ_max at a rung that is not reported) and its warping outputs.
+type Solved = (TorsionSolution, Option<MaxShear>, Warping);
 
 /// A resolution of the ladder whose warping outputs are computed on demand.
 struct Rung {
     sol: TorsionSolution,
-    ms: MaxShear,
+    /// None when τ_max is singular (a re-entrant corner or an inward cusp):
+    /// it has no value to estimate, and its largest regular value is only
+    /// reported for the finest rung, so the search waits until then
+    ms: Option<MaxShear>,
     warp: Option<Warping>,
 }
 
 impl Rung {
     fn new(section: &Section, opts: &Options) -> Result<Rung, SolveError> {
         let sol = solve(section, opts)?;
-        let ms = sol.max_shear();
+        let ms = (!section.is_singular()).then(|| sol.max_shear());
         Ok(Rung {
             sol,
             ms,
             warp: None,
         })
+    }
+    /// τ_max (None when singular).
+    fn tau(&self) -> Option<f64> {
+        self.ms.and_then(|m| m.value)
     }
     /// Computes the warping outputs if not done yet; records them in `level`.
     fn with_warping(&mut self, level: &mut Level) {
@@ -73,7 +81,7 @@ fn solve_level(section: &Section, opts: &Options) -> Result<Solved, SolveError> 
     let sol = solve(section, opts)?;
     let ms = sol.max_shear();
     let w = sol.warping();
-    Ok((sol, ms, w))
+    Ok((sol, Some(ms), w))
 }
 
 /// One resolution of a refinement sequence.
@@ -203,7 +211,7 @@ fn level(s: &Solved) -> Level {
     Level {
         n: s.0.options.n,
         torsional_rigidity: s.0.torsional_rigidity,
-        max_shear_stress: s.1.value,
+        max_shear_stress: s.1.and_then(|m| m.value),
         shear_centre: Some(s.2.shear_centre),
         warping_constant: Some(s.2.warping_constant),
     }
@@ -213,7 +221,7 @@ fn rung_level(r: &Rung) -> Level {
     Level {
         n: r.sol.options.n,
         torsional_rigidity: r.sol.torsional_rigidity,
-        max_shear_stress: r.ms.value,
+        max_shear_stress: r.tau(),
         shear_centre: r.warp.as_ref().map(|w| w.shear_centre),
         warping_constant: r.warp.as_ref().map(|w| w.warping_constant),
     }
@@ -409,7 +417,7 @@ fn finish(
     let floor = rate_floor(&fine.0.options);
     let jt: Vec<(f64, Option<f64>)> = refs
         .iter()
-        .map(|r| (r.0.torsional_rigidity, r.1.value))
+        .map(|r| (r.0.torsional_rigidity, r.1.and_then(|m| m.value)))
         .collect();
     let round_off = round_off(&fine.0.section, fine.0.options.n * fine.0.curve_count());
     let (j_error, tau_error) = jt_estimates(&jt, floor, round_off);
@@ -468,9 +476,11 @@ fn finish(
             ));
         }
     }
+    // the reported rung's τ_max (its largest regular value when singular)
+    let max_shear = fine.1.unwrap_or_else(|| fine.0.max_shear());
     Controlled {
         solution: fine.0,
-        max_shear: fine.1,
+        max_shear,
         j_error,
         tau_error,
         warping: fine.2,
@@ -594,7 +604,7 @@ pub fn solve_to_tolerance(
             let at_cap = 2 * n > n_max;
             let jt: Vec<(f64, Option<f64>)> = ladder
                 .iter()
-                .map(|r| (r.sol.torsional_rigidity, r.ms.value))
+                .map(|r| (r.sol.torsional_rigidity, r.tau()))
                 .collect();
             let round_off = round_off(section, n * section.curves().len());
             let (ej_rungs, etau) = jt_estimates(&jt, floor, round_off);

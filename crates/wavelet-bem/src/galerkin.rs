@@ -202,7 +202,6 @@ pub fn assemble(
         .flat_map(|(c, p)| p.nodes(c, n))
         .collect();
     let big = nodes.len();
-    let f = kernels::rhs_blocks(&nodes, n, x0);
     let g2 = kernels::radius_sq(&nodes, x0);
     let p = projection_kernel(&w, n);
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
@@ -211,7 +210,7 @@ pub fn assemble(
     // L (symmetric, one logarithm per pair: its upper triangle), the rows
     // of M = L Pᵀ, then the rows of A from the columns of M (P L Pᵀ = P M):
     // peak memory 2 N² doubles, and the second array is kept for the solve
-    let upper = kernels::log_remainder_upper(&nodes, n);
+    let (upper, f) = kernels::log_remainder_upper(&nodes, n, x0);
     let mut m = crate::linalg::dense_zeroed(big * big);
     convolve_gathered(&upper, &mut m, big, &phat_n, |i| i, |_, _| {});
     let mut a = upper;
@@ -225,9 +224,15 @@ pub fn assemble(
         &phat_n,
         |_| big,
         |i, row| {
+            // C[ii, k] = c[(ii − k) mod n] on the diagonal block, split
+            // where the index wraps (no division per entry)
             let (bi, ii) = (i / n, i % n);
-            for (k, v) in row[bi * n..(bi + 1) * n].iter_mut().enumerate() {
-                *v += c[(ii + n - k) % n];
+            let (before, after) = row[bi * n..(bi + 1) * n].split_at_mut(ii + 1);
+            for (v, &ck) in before.iter_mut().zip(c[..=ii].iter().rev()) {
+                *v += ck;
+            }
+            for (v, &ck) in after.iter_mut().zip(c[ii + 1..].iter().rev()) {
+                *v += ck;
             }
             for v in row.iter_mut() {
                 *v *= s;

@@ -69,6 +69,7 @@ pub mod geometry;
 pub mod grading;
 pub mod kernels;
 pub mod linalg;
+mod logarithm;
 pub mod memory;
 pub mod nystrom;
 pub mod polyline;

@@ -56,9 +56,8 @@ pub fn assemble(nodes: &[BPoint], x0: [f64; 2]) -> NystromSystem {
 pub fn assemble_blocks(nodes: &[BPoint], n: usize, x0: [f64; 2]) -> NystromSystem {
     let big = nodes.len();
     let kc = big / n;
-    let l = kernels::log_remainder_blocks(nodes, n);
+    let (l, f) = kernels::log_remainder_blocks(nodes, n, x0);
     let r = kress_weights(n);
-    let f = kernels::rhs_blocks(nodes, n, x0);
     let nn = big + kc;
     let mut a = vec![0.0; nn * nn];
     let inv = 1.0 / n as f64;

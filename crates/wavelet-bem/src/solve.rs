@@ -346,22 +346,26 @@ impl TorsionSolution {
         let (sec, param, dens) = self.curve(k);
         let ts: Vec<f64> = (0..m).map(|k| (k as f64 + 0.5) / m as f64).collect();
         let mu = dens.sample(m, 0.5);
-        let pts: Vec<BPoint> = ts.par_iter().map(|&t| param.eval(sec, t)).collect();
+        let pts: Vec<(BPoint, bool)> = ts
+            .par_iter()
+            .map(|&t| (param.eval(sec, t), self.in_cluster_on(k, t)))
+            .collect();
         // arc length by the trapezoidal rule on the same grid (exact spectrally for smooth |x′|)
         let mut s = 0.0;
         let mut out = Vec::with_capacity(m);
         for j in 0..m {
+            let (p, in_cluster) = &pts[j];
             if j > 0 {
-                s += 0.5 * (pts[j - 1].speed() + pts[j].speed()) / m as f64;
+                s += 0.5 * (pts[j - 1].0.speed() + p.speed()) / m as f64;
             } else {
-                s = 0.5 * pts[0].speed() / m as f64;
+                s = 0.5 * p.speed() / m as f64;
             }
-            if self.in_cluster_on(k, ts[j]) {
+            if *in_cluster {
                 continue;
             }
-            let x = pts[j].x();
-            let nrm = pts[j].normal();
-            let q = mu[j] / pts[j].speed()
+            let x = p.x();
+            let nrm = p.normal();
+            let q = mu[j] / p.speed()
                 - ((x[0] - self.centroid[0]) * nrm[0] + (x[1] - self.centroid[1]) * nrm[1]);
             out.push(BoundarySample { t: ts[j], s, x, q });
         }

@@ -49,6 +49,7 @@
 use crate::density::FourierDensity;
 use crate::geometry::{PointLocation, Section, V2};
 use crate::grading::BPoint;
+use crate::kernels::sum_lanes;
 use crate::nystrom::kress_weights;
 use crate::solve::TorsionSolution;
 use rayon::prelude::*;
@@ -184,22 +185,25 @@ impl Nodes {
 fn omega_squared_integral(nd: &Nodes) -> f64 {
     let m = nd.m;
     let big = nd.pts.len();
-    let r = kress_weights(m);
-    let h = 1.0 / m as f64;
-    let sines = crate::kernels::log_sines(m);
-    let c8 = 1.0 / (8.0 * PI);
-    // per node: unit normal, speed, ∂ω/∂n |x′| and ω |x′|
-    let normals: Vec<V2> = nd.pts.iter().map(|p| p.normal()).collect();
     let speeds: Vec<f64> = nd.pts.iter().map(|p| p.speed()).collect();
-    let qs: Vec<f64> = nd.flux.iter().zip(&speeds).map(|(q, s)| q * s).collect();
-    let ws: Vec<f64> = nd.omega.iter().zip(&speeds).map(|(w, s)| w * s).collect();
-    // node data by component (contiguous loops over j)
-    let ax: Vec<f64> = nd.pts.iter().map(|p| p.anchor[0]).collect();
-    let ay: Vec<f64> = nd.pts.iter().map(|p| p.anchor[1]).collect();
-    let ox: Vec<f64> = nd.pts.iter().map(|p| p.offset[0]).collect();
-    let oy: Vec<f64> = nd.pts.iter().map(|p| p.offset[1]).collect();
-    let nxs: Vec<f64> = normals.iter().map(|v| v[0]).collect();
-    let nys: Vec<f64> = normals.iter().map(|v| v[1]).collect();
+    let normals: Vec<V2> = nd.pts.iter().map(|p| p.normal()).collect();
+    // per node: unit normal, speed, ∂ω/∂n |x′| and ω |x′|, by component
+    // (contiguous loops over j)
+    let comp = |f: &dyn Fn(&BPoint) -> f64| nd.pts.iter().map(f).collect::<Vec<f64>>();
+    let pairs = OmegaPairs {
+        m,
+        r: kress_weights(m),
+        sines: crate::kernels::log_sines(m),
+        ax: comp(&|p| p.anchor[0]),
+        ay: comp(&|p| p.anchor[1]),
+        ox: comp(&|p| p.offset[0]),
+        oy: comp(&|p| p.offset[1]),
+        nxs: normals.iter().map(|v| v[0]).collect(),
+        nys: normals.iter().map(|v| v[1]).collect(),
+        qs: nd.flux.iter().zip(&speeds).map(|(q, s)| q * s).collect(),
+        ws: nd.omega.iter().zip(&speeds).map(|(w, s)| w * s).collect(),
+        speeds,
+    };
     // Every kernel depends on the pair through r², ln r and the two normal
     // projections of x_i − x_j, and swapping i and j swaps the projections
     // (d·n_i ↔ −d·n_j): each pair i < j is evaluated once (one logarithm)
@@ -211,75 +215,13 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
     let partial: Vec<(Vec<f64>, Vec<f64>)> = (0..big.div_ceil(block))
         .into_par_iter()
         .map(|b| {
-            let mut psi = vec![0.0; big];
-            let mut chi = vec![0.0; big];
-            // per row: the pairs' difference vectors and ln r
-            let mut dx = vec![0.0; big];
-            let mut dy = vec![0.0; big];
-            let mut lnr = vec![0.0; big];
-            for i in b * block..((b + 1) * block).min(big) {
-                let (nxi, nyi) = (nxs[i], nys[i]);
-                // the diagonal limit: only the double-normal kernel survives
-                let l = (speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
-                let a_dd = -(1.0 - 2.0 * l) * c8;
-                let b_dd = 2.0 * c8;
-                chi[i] -= h * a_dd * ws[i] + r[0] * b_dd * ws[i];
-                let (qi, wi) = (qs[i], ws[i]);
-                // x_i − x_j, exact for a shared anchor (the anchors then
-                // cancel to 0 exactly, as in `diff`)
-                for j in i + 1..big {
-                    dx[j] = (ax[i] - ax[j]) + (ox[i] - ox[j]);
-                    dy[j] = (ay[i] - ay[j]) + (oy[i] - oy[j]);
-                }
-                for j in i + 1..big {
-                    let r2 = dx[j] * dx[j] + dy[j] * dy[j];
-                    lnr[j] = 0.5 * r2.max(f64::MIN_POSITIVE).ln();
-                }
-                let (mut psi_i, mut chi_i) = (0.0, 0.0);
-                // ln r = S + L on the same curve (S = ln|2 sin π(t − s)|, the
-                // nodes after i on its curve), L = ln r across curves
-                let end = (i / m + 1) * m;
-                for j in i + 1..big {
-                    let same = j < end;
-                    let (qj, wj) = (qs[j], ws[j]);
-                    let (nxj, nyj) = (nxs[j], nys[j]);
-                    let nn = nxi * nxj + nyi * nyj;
-                    let (ex, ey) = (dx[j], dy[j]);
-                    let r2 = ex * ex + ey * ey;
-                    // d·n_i and d·n_j (for row j: −d·n_j and −d·n_i)
-                    let dnx = ex * nxi + ey * nyi;
-                    let dny = ex * nxj + ey * nyj;
-                    let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
-                    let l = if same { lnr[j] - sines[j - i] } else { lnr[j] };
-                    // A (smooth part) of the kernels; row j swaps a_dny and a_dnx
-                    let a_phi = r2 * (1.0 - l) * c8;
-                    let a_dny = -(1.0 - 2.0 * l) * dny * c8;
-                    let a_dnx = (1.0 - 2.0 * l) * dnx * c8;
-                    let a_dd = (cross - (1.0 - 2.0 * l) * nn) * c8;
-                    psi_i += h * (a_phi * qj - a_dny * wj);
-                    chi_i += h * (a_dnx * qj - a_dd * wj);
-                    psi[j] += h * (a_phi * qi - a_dnx * wi);
-                    chi[j] += h * (a_dny * qi - a_dd * wi);
-                    if same {
-                        // B (coefficient of ln|2 sin π(t − s)|), with Kress's
-                        // weights R((t_i − t_j) mod 1) and R((t_j − t_i) mod 1)
-                        let k = j - i;
-                        let wr_i = r[m - k];
-                        let wr_j = r[k];
-                        let b_phi = -r2 * c8;
-                        let b_dny = 2.0 * dny * c8;
-                        let b_dnx = -2.0 * dnx * c8;
-                        let b_dd = 2.0 * nn * c8;
-                        psi_i += wr_i * (b_phi * qj - b_dny * wj);
-                        chi_i += wr_i * (b_dnx * qj - b_dd * wj);
-                        psi[j] += wr_j * (b_phi * qi - b_dnx * wi);
-                        chi[j] += wr_j * (b_dny * qi - b_dd * wi);
-                    }
-                }
-                psi[i] += psi_i;
-                chi[i] += chi_i;
+            let rows = b * block..((b + 1) * block).min(big);
+            #[cfg(target_arch = "x86_64")]
+            if crate::logarithm::has_avx2() {
+                // SAFETY: the CPU has AVX2, the only feature it is compiled for
+                return unsafe { pairs.rows_avx2(rows) };
             }
-            (psi, chi)
+            pairs.rows(rows)
         })
         .collect();
     let mut psi = vec![0.0; big];
@@ -290,9 +232,151 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
             chi[k] += c[k];
         }
     }
+    let h = 1.0 / m as f64;
     (0..big)
-        .map(|i| (nd.omega[i] * chi[i] - psi[i] * nd.flux[i]) * speeds[i] * h)
+        .map(|i| (nd.omega[i] * chi[i] - psi[i] * nd.flux[i]) * pairs.speeds[i] * h)
         .sum()
+}
+
+/// The node data of [`omega_squared_integral`], by component.
+struct OmegaPairs {
+    /// nodes per curve
+    m: usize,
+    /// Kress's weights R and ln|2 sin π k/m|
+    r: Vec<f64>,
+    sines: Vec<f64>,
+    /// anchors and offsets (x = anchor + offset)
+    ax: Vec<f64>,
+    ay: Vec<f64>,
+    ox: Vec<f64>,
+    oy: Vec<f64>,
+    /// unit normals
+    nxs: Vec<f64>,
+    nys: Vec<f64>,
+    /// ∂ω/∂n |x′| and ω |x′|
+    qs: Vec<f64>,
+    ws: Vec<f64>,
+    /// |x′|
+    speeds: Vec<f64>,
+}
+
+/// The smooth-part (A) terms of one pair for rows i and j, and the pair's
+/// geometry for the B terms.
+struct PairTerms {
+    psi_i: f64,
+    chi_i: f64,
+    psi_j: f64,
+    chi_j: f64,
+    r2: f64,
+    dnx: f64,
+    dny: f64,
+    nn: f64,
+}
+
+impl OmegaPairs {
+    /// (ψ, χ) of the pairs (i, j > i) for the rows i in `rows` (both rows'
+    /// terms), one vector each over all nodes.
+    #[inline(always)]
+    fn rows(&self, rows: std::ops::Range<usize>) -> (Vec<f64>, Vec<f64>) {
+        let (m, r, sines) = (self.m, &self.r, &self.sines);
+        let big = self.ax.len();
+        let h = 1.0 / m as f64;
+        let c8 = 1.0 / (8.0 * PI);
+        let (qs, ws) = (&self.qs, &self.ws);
+        let mut psi = vec![0.0; big];
+        let mut chi = vec![0.0; big];
+        // per row: the pairs' difference vectors and ln r², and row i's own
+        // terms (summed at the end of the row)
+        let mut dx = vec![0.0; big];
+        let mut dy = vec![0.0; big];
+        let mut lnr = vec![0.0; big];
+        let mut own_psi = vec![0.0; big];
+        let mut own_chi = vec![0.0; big];
+        for i in rows {
+            // the diagonal limit: only the double-normal kernel survives
+            let l = (self.speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+            let a_dd = -(1.0 - 2.0 * l) * c8;
+            let b_dd = 2.0 * c8;
+            chi[i] -= h * a_dd * ws[i] + r[0] * b_dd * ws[i];
+            let (qi, wi) = (qs[i], ws[i]);
+            // x_i − x_j, exact for a shared anchor (the anchors then cancel
+            // to 0 exactly, as in `diff`)
+            for j in i + 1..big {
+                dx[j] = (self.ax[i] - self.ax[j]) + (self.ox[i] - self.ox[j]);
+                dy[j] = (self.ay[i] - self.ay[j]) + (self.oy[i] - self.oy[j]);
+                lnr[j] = (dx[j] * dx[j] + dy[j] * dy[j]).max(f64::MIN_POSITIVE);
+            }
+            // ln r², all at once (vector instructions); halved below
+            crate::logarithm::ln_slice(&mut lnr[i + 1..]);
+            // the nodes after i on its curve: A and B (the coefficient of
+            // ln|2 sin π(t − s)|, with Kress's weights R((t_i − t_j) mod 1)
+            // and R((t_j − t_i) mod 1)); ln r = S + L there
+            let end = (i / m + 1) * m;
+            for j in i + 1..end {
+                let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j] - sines[j - i]);
+                let (qj, wj) = (qs[j], ws[j]);
+                let k = j - i;
+                let wr_i = r[m - k];
+                let wr_j = r[k];
+                let b_phi = -t.r2 * c8;
+                let b_dny = 2.0 * t.dny * c8;
+                let b_dnx = -2.0 * t.dnx * c8;
+                let b_dd = 2.0 * t.nn * c8;
+                own_psi[j] = t.psi_i + wr_i * (b_phi * qj - b_dny * wj);
+                own_chi[j] = t.chi_i + wr_i * (b_dnx * qj - b_dd * wj);
+                psi[j] += t.psi_j + wr_j * (b_phi * qi - b_dnx * wi);
+                chi[j] += t.chi_j + wr_j * (b_dny * qi - b_dd * wi);
+            }
+            // the other curves: A only, L = ln r
+            for j in end..big {
+                let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j]);
+                own_psi[j] = t.psi_i;
+                own_chi[j] = t.chi_i;
+                psi[j] += t.psi_j;
+                chi[j] += t.chi_j;
+            }
+            psi[i] += sum_lanes(&own_psi[(i + 1).min(big)..]);
+            chi[i] += sum_lanes(&own_chi[(i + 1).min(big)..]);
+        }
+        (psi, chi)
+    }
+
+    /// [`OmegaPairs::rows`] compiled for AVX2 (the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn rows_avx2(&self, rows: std::ops::Range<usize>) -> (Vec<f64>, Vec<f64>) {
+        self.rows(rows)
+    }
+
+    /// The A terms of the pair (i, j), d = x_i − x_j = (ex, ey), with the
+    /// smooth part l of ln r (row j swaps a_dny and a_dnx).
+    #[inline(always)]
+    fn smooth(&self, i: usize, j: usize, ex: f64, ey: f64, l: f64) -> PairTerms {
+        let c8 = 1.0 / (8.0 * PI);
+        let h = 1.0 / self.m as f64;
+        let (qi, wi, qj, wj) = (self.qs[i], self.ws[i], self.qs[j], self.ws[j]);
+        let (nxi, nyi, nxj, nyj) = (self.nxs[i], self.nys[i], self.nxs[j], self.nys[j]);
+        let nn = nxi * nxj + nyi * nyj;
+        let r2 = ex * ex + ey * ey;
+        // d·n_i and d·n_j (for row j: −d·n_j and −d·n_i)
+        let dnx = ex * nxi + ey * nyi;
+        let dny = ex * nxj + ey * nyj;
+        let cross = if r2 > 0.0 { 2.0 * dnx * dny / r2 } else { 0.0 };
+        let a_phi = r2 * (1.0 - l) * c8;
+        let a_dny = -(1.0 - 2.0 * l) * dny * c8;
+        let a_dnx = (1.0 - 2.0 * l) * dnx * c8;
+        let a_dd = (cross - (1.0 - 2.0 * l) * nn) * c8;
+        PairTerms {
+            psi_i: h * (a_phi * qj - a_dny * wj),
+            chi_i: h * (a_dnx * qj - a_dd * wj),
+            psi_j: h * (a_phi * qi - a_dnx * wi),
+            chi_j: h * (a_dny * qi - a_dd * wi),
+            r2,
+            dnx,
+            dny,
+            nn,
+        }
+    }
 }
 
 impl TorsionSolution {
