@@ -176,6 +176,11 @@ impl ZoneMap {
     fn speed(&self, s: f64) -> f64 {
         let a = (s / self.delta).tanh();
         let b = ((1.0 - s) / self.delta).tanh();
+        self.speed_of(a, b)
+    }
+
+    /// [tanh(s/δ) tanh((1 − s)/δ)]^{p−1} from the two factors a, b.
+    fn speed_of(&self, a: f64, b: f64) -> f64 {
         let e = self.p - 1.0;
         if e == e.round() && (0.0..=32.0).contains(&e) {
             (a * b).powi(e as i32)
@@ -193,6 +198,15 @@ impl ZoneMap {
                 .sum::<f64>()
     }
 
+    /// dw/ds for 0 ≤ s ≤ ½: the second entry of [`ZoneMap::eval`], the
+    /// same bits.
+    pub fn eval_speed(&self, s: f64) -> f64 {
+        if s <= 0.0 {
+            return 0.0;
+        }
+        self.speed(s.min(0.5)) / self.total
+    }
+
     /// (w, dw/ds, d²w/ds²) for 0 ≤ s ≤ ½ (w(½) = ½ exactly).
     pub fn eval(&self, s: f64) -> (f64, f64, f64) {
         if s <= 0.0 {
@@ -205,8 +219,8 @@ impl ZoneMap {
         } else {
             (self.cum[c] + self.integral_between(c as f64 * self.cell, s)) / self.total
         };
-        let sp = self.speed(s);
         let (a, b) = ((s / self.delta).tanh(), ((1.0 - s) / self.delta).tanh());
+        let sp = self.speed_of(a, b);
         // (ln σ)′ = (p − 1)/δ [(1 − a²)/a − (1 − b²)/b]
         let g = (self.p - 1.0) / self.delta * ((1.0 - a * a) / a - (1.0 - b * b) / b);
         (w, sp / self.total, sp * g / self.total)
@@ -308,6 +322,17 @@ impl Parametrisation {
             (Some(z), _) => z.eval(sig),
             (None, Some(p)) => kress(sig, p),
             (None, None) => (sig, 1.0, 0.0),
+        }
+    }
+
+    /// dw/ds of panel k's map at σ ≤ ½ from its nearer end: the second
+    /// entry of [`Parametrisation::panel_map`], without the map itself (a
+    /// corner zone's map is an integral, its speed a closed form).
+    pub fn panel_speed(&self, k: usize, sig: f64) -> f64 {
+        match (&self.zones[k], self.grading[k]) {
+            (Some(z), _) => z.eval_speed(sig),
+            (None, Some(p)) => kress(sig, p).1,
+            (None, None) => 1.0,
         }
     }
 
@@ -415,6 +440,8 @@ mod tests {
                 }
                 let h = 1e-6 * delta.min(s);
                 let (_, dw, ddw) = z.eval(s);
+                // the speed alone is the same number
+                assert_eq!(z.eval_speed(s).to_bits(), dw.to_bits(), "speed at {s}");
                 let (wp, dwp, _) = z.eval(s + h);
                 let (wm, dwm, _) = z.eval(s - h);
                 assert!(

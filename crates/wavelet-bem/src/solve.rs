@@ -326,7 +326,7 @@ impl TorsionSolution {
         } else {
             (1.0 - s, (pk + 1) % m)
         };
-        let (_, dw, _) = param.panel_map(pk, sig);
+        let dw = param.panel_speed(pk, sig);
         let limit = if sec.junctions[junc].is_smooth() {
             1e-3
         } else {
