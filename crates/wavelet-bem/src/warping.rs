@@ -192,6 +192,11 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
     let comp = |f: &dyn Fn(&BPoint) -> f64| nd.pts.iter().map(f).collect::<Vec<f64>>();
     let pairs = OmegaPairs {
         m,
+        r_back: {
+            // R((t_i − t_j) mod 1) for j = i + k: R at m − k, read forwards
+            let r = kress_weights(m);
+            (0..m).map(|k| r[(m - k) % m]).collect()
+        },
         r: kress_weights(m),
         sines: crate::kernels::log_sines(m),
         ax: comp(&|p| p.anchor[0]),
@@ -242,8 +247,9 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
 struct OmegaPairs {
     /// nodes per curve
     m: usize,
-    /// Kress's weights R and ln|2 sin π k/m|
+    /// Kress's weights R(k/m), R((m − k)/m) and ln|2 sin π k/m|
     r: Vec<f64>,
+    r_back: Vec<f64>,
     sines: Vec<f64>,
     /// anchors and offsets (x = anchor + offset)
     ax: Vec<f64>,
@@ -316,7 +322,7 @@ impl OmegaPairs {
                 let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j] - sines[j - i]);
                 let (qj, wj) = (qs[j], ws[j]);
                 let k = j - i;
-                let wr_i = r[m - k];
+                let wr_i = self.r_back[k];
                 let wr_j = r[k];
                 let b_phi = -t.r2 * c8;
                 let b_dny = 2.0 * t.dny * c8;
