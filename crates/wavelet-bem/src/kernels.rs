@@ -344,12 +344,12 @@ pub fn radius_sq(nodes: &[BPoint], x0: [f64; 2]) -> Vec<f64> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::grading::diff;
 
     /// `n` nodes t_a = (a + ½)/n on the circle of radius `r` about `c`.
-    fn circle(n: usize, r: f64, c: [f64; 2]) -> Vec<BPoint> {
+    pub(crate) fn circle(n: usize, r: f64, c: [f64; 2]) -> Vec<BPoint> {
         (0..n)
             .map(|a| {
                 let th = 2.0 * PI * (a as f64 + 0.5) / n as f64;

@@ -530,6 +530,7 @@ impl TorsionSolution {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernels::tests::circle;
 
     /// The AVX2 copy of the pair loop gives the same bits as the baseline
     /// copy (no fused multiply-adds, no reordering), on two curves.
@@ -540,23 +541,8 @@ mod tests {
             return;
         }
         let m = 40;
-        let circle = |r: f64, c: V2| -> Vec<BPoint> {
-            (0..m)
-                .map(|a| {
-                    let th = 2.0 * PI * (a as f64 + 0.5) / m as f64;
-                    let (s, co) = th.sin_cos();
-                    let w = 2.0 * PI * r;
-                    BPoint {
-                        anchor: c,
-                        offset: [r * co, r * s],
-                        d1: [-w * s, w * co],
-                        d2: [-2.0 * PI * w * co, -2.0 * PI * w * s],
-                    }
-                })
-                .collect()
-        };
-        let mut pts = circle(1.0, [0.0, 0.0]);
-        pts.extend(circle(0.3, [0.1, -0.05]));
+        let mut pts = circle(m, 1.0, [0.0, 0.0]);
+        pts.extend(circle(m, 0.3, [0.1, -0.05]));
         let big = pts.len();
         let nd = Nodes {
             omega: (0..big).map(|i| (0.37 * i as f64).sin()).collect(),
