@@ -19,8 +19,9 @@
 //! measures it against `f64::ln`). No fused multiply-adds are used, so both
 //! paths (AVX2 or not) give the same bits.
 //!
-//! Inputs must be positive, finite and normal (the fills clamp r² to at
-//! least `f64::MIN_POSITIVE`).
+//! Inputs must be positive and normal (the fills clamp r² to at least
+//! `f64::MIN_POSITIVE`); +∞ and NaN give themselves, as with `f64::ln`, so
+//! an overflow still shows as a non-finite result.
 
 /// ln 2 in two parts: the high part has 32 significant bits, so k ln2_hi is
 /// exact for |k| < 2^20.
@@ -30,7 +31,7 @@ const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
 /// The bits of 1/√2 (rounded): m is taken in [1/√2, √2).
 const SQRT_HALF_BITS: u64 = 0x3fe6_a09e_667f_3bcd;
 
-/// ln x for positive, finite, normal x (see the module notes).
+/// ln x for positive normal x, +∞ and NaN (see the module notes).
 #[inline(always)]
 fn ln_one(x: f64) -> f64 {
     // shift the bits so that the exponent field counts from 1/√2, not 1
@@ -53,10 +54,12 @@ fn ln_one(x: f64) -> f64 {
     p = p * z + 1.0 / 5.0;
     p = p * z + 1.0 / 3.0;
     let lnm = 2.0 * s + 2.0 * s * (z * p);
-    k * LN2_HI + (lnm + k * LN2_LO)
+    let y = k * LN2_HI + (lnm + k * LN2_LO);
+    // +∞ and NaN pass through, as with `f64::ln` (a select: no branch)
+    if x.is_finite() { y } else { x }
 }
 
-/// Replaces every entry of `v` (positive, finite, normal) by its natural
+/// Replaces every entry of `v` (positive and normal, or +∞, or NaN) by its natural
 /// logarithm, in the instruction set of the caller (inlined into a row
 /// loop compiled for AVX2 it runs 4 numbers per instruction, see
 /// [`has_avx2`]).
@@ -159,5 +162,10 @@ mod tests {
         }
         // the bound is not vacuous: some results are not the library's bits
         assert!(worst >= 0.5, "worst {worst}");
+        // overflowed inputs stay visible
+        let mut odd = [f64::INFINITY, f64::NAN];
+        ln_in_place(&mut odd);
+        assert_eq!(odd[0], f64::INFINITY);
+        assert!(odd[1].is_nan());
     }
 }
