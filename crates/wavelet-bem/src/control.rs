@@ -175,17 +175,27 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     // eccentric thin tubes (thinnest walls 0.01 … 0.05); the ellipses and eccentric
     // tubes climb to the same n as before (their estimates set it), and the
     // concentric tubes stop at n = 128, exact to 3e-14 (1/0.99: 5.9 → 0.02 s).
-    let thick = 2.0 * section.area / section.total_perimeter();
+    let mean_wall = 2.0 * section.area / section.total_perimeter();
     let graded = section.curves().iter().any(|c| c.any_graded());
+    // the corner zones follow each piece's own wall where some wall is much
+    // thinner than the mean (see `zone_walls`): the floor then counts nodes
+    // per thickness of the thinnest wall
+    let thinnest_zoned_wall = match opts.method {
+        Method::Daubechies if opts.corner_zones => crate::grading::zone_walls(section)
+            .map(|w| w.iter().flatten().copied().fold(f64::INFINITY, f64::min)),
+        _ => None,
+    };
+    let thick = thinnest_zoned_wall.map_or(mean_wall, |w| w.min(mean_wall));
     // long graded panels of thin-walled sections with re-entrant corners
     // have corner zones and the mean spacing in their middle: 4 per thickness
     let zoned = matches!(opts.method, Method::Daubechies)
         && opts.corner_zones
-        && crate::grading::zone_wall(section).is_some_and(|w| {
+        && crate::grading::zone_walls(section).is_some_and(|w| {
             section
                 .curves()
                 .iter()
-                .any(|c| crate::grading::Parametrisation::would_zone(c, w))
+                .zip(&w)
+                .any(|(c, wc)| crate::grading::Parametrisation::would_zone(c, wc))
         });
     let per_thickness = match (graded, opts.method) {
         (true, _) if zoned => 4.0,

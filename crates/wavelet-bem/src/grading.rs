@@ -99,19 +99,112 @@ pub const ZONE_MAX_DELTA: f64 = 0.3;
 /// 1/3000 of its panel long needs more than 12 000 nodes per curve.
 pub const ZONE_MIN_DELTA: f64 = 1e-3;
 
-/// The mean wall thickness 2A/P of `section` (all its curves) when its
-/// graded panels may use [`ZoneMap`]: only for sections with a re-entrant
-/// corner (boxes, I, channels, L: their τ_max is singular and not
-/// reported). On a thin rectangle the zone map made τ_max, the boundary
-/// maximum, converge at 2^−5.4 per doubling between n = 512 and 1024 (1 ×
-/// 0.02), slower than τ's rate floor 2^−7, so that its estimate fell short
-/// (5.8e-9 reported, 8.7e-9 true); convex sections keep Kress's map.
-pub fn zone_wall(section: &Section) -> Option<f64> {
+/// The wall thickness of every piece of every curve of `section` (outer
+/// boundary, then holes) when its graded panels may use [`ZoneMap`]: only
+/// for sections with a re-entrant corner (boxes, I, channels, L: their
+/// τ_max is singular and not reported). On a thin rectangle the zone map
+/// made τ_max, the boundary maximum, converge at 2^−5.4 per doubling
+/// between n = 512 and 1024 (1 × 0.02), slower than τ's rate floor 2^−7,
+/// so that its estimate fell short (5.8e-9 reported, 8.7e-9 true); convex
+/// sections keep Kress's map.
+///
+/// Every piece gets the mean wall thickness 2A/P of the whole section,
+/// unless some wall is much thinner than that mean (below 1/[`MIXED_WALLS`]
+/// of it): then every piece gets its own thickness, see [`local_walls`].
+/// Measured (2026-11-27, `--tol 1e-8`): the box 2 × 1 with flanges 0.1 and
+/// webs 0.02 needed n = 4096 per curve with the mean (7.4 s); boxes whose
+/// walls differ less converge as fast or faster with the mean (the bench
+/// box, flanges 0.1 and webs 0.05: n = 1024 at 1e-10 with the mean, 2048
+/// with local walls).
+pub fn zone_walls(section: &Section) -> Option<Vec<Vec<f64>>> {
     if !section.is_singular() {
         return None;
     }
-    let wall = 2.0 * section.area / section.total_perimeter();
-    (wall.is_finite() && wall > 0.0).then_some(wall)
+    let mean = 2.0 * section.area / section.total_perimeter();
+    if !(mean.is_finite() && mean > 0.0) {
+        return None;
+    }
+    let local = local_walls(section);
+    let thinnest = local
+        .iter()
+        .flatten()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    if thinnest.is_finite() && thinnest > 0.0 && thinnest * MIXED_WALLS < mean {
+        Some(local)
+    } else {
+        Some(
+            section
+                .curves()
+                .iter()
+                .map(|c| vec![mean; c.pieces.len()])
+                .collect(),
+        )
+    }
+}
+
+/// A wall thinner than 1/`MIXED_WALLS` of the section's mean wall
+/// thickness makes [`zone_walls`] take every piece's own thickness.
+pub const MIXED_WALLS: f64 = 3.0;
+
+/// The thickness of every piece of every curve: the least distance from its
+/// points at 0.3 … 0.7 of its length to the other pieces of every curve,
+/// its two neighbours on its own curve excluded (they meet it at its
+/// corners). Segments are exact, curved pieces are taken as 32 chords.
+fn local_walls(section: &Section) -> Vec<Vec<f64>> {
+    let curves = section.curves();
+    let lines: Vec<Vec<Vec<V2>>> = curves
+        .iter()
+        .map(|c| {
+            c.pieces
+                .iter()
+                .map(|q| match q {
+                    crate::geometry::Piece::Segment { a, b } => vec![*a, *b],
+                    _ => (0..=32).map(|i| q.point(i as f64 / 32.0)[0]).collect(),
+                })
+                .collect()
+        })
+        .collect();
+    let dist = |x: V2, line: &[V2]| -> f64 {
+        line.windows(2)
+            .map(|w| {
+                let (a, b) = (w[0], w[1]);
+                let d = [b[0] - a[0], b[1] - a[1]];
+                let l2 = d[0] * d[0] + d[1] * d[1];
+                let t = if l2 > 0.0 {
+                    (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (x[0] - a[0] - t * d[0]).hypot(x[1] - a[1] - t * d[1])
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    curves
+        .iter()
+        .enumerate()
+        .map(|(ci, c)| {
+            let m = c.pieces.len();
+            (0..m)
+                .map(|k| {
+                    let mut best = f64::INFINITY;
+                    for i in 0..5 {
+                        let x = c.pieces[k].point(0.3 + 0.1 * i as f64)[0];
+                        for (cj, other) in lines.iter().enumerate() {
+                            for (j, line) in other.iter().enumerate() {
+                                let near =
+                                    cj == ci && (j == k || j == (k + 1) % m || (j + 1) % m == k);
+                                if !near {
+                                    best = best.min(dist(x, line));
+                                }
+                            }
+                        }
+                    }
+                    best
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// The corner zone δ (a fraction of the panel) of a graded panel `len`
@@ -283,16 +376,17 @@ impl Parametrisation {
         }
     }
 
-    /// [`Parametrisation::new`] with corner zones: with `wall = Some(t)`
-    /// (the mean wall thickness 2A/P of the whole section, see
-    /// [`zone_wall`]) every graded panel at least `ZONE_WALLS / ZONE_MAX_DELTA`
-    /// wall thicknesses long gets the [`ZoneMap`] with a corner zone of
+    /// [`Parametrisation::new`] with corner zones: with `walls = Some(d)`
+    /// (the wall thickness of each piece of this curve, see [`zone_walls`])
+    /// every graded panel at least `ZONE_WALLS / ZONE_MAX_DELTA` of its wall
+    /// thicknesses long gets the [`ZoneMap`] with a corner zone of
     /// [`ZONE_WALLS`] wall thicknesses instead of Kress's map.
-    pub fn with_zones(section: &Section, p: f64, wall: Option<f64>) -> Parametrisation {
+    pub fn with_zones(section: &Section, p: f64, walls: Option<&[f64]>) -> Parametrisation {
         let mut par = Parametrisation::new(section, p);
-        let Some(wall) = wall else { return par };
+        let Some(walls) = walls else { return par };
         for (k, piece) in section.pieces.iter().enumerate() {
             let Some(p) = par.grading[k] else { continue };
+            let Some(&wall) = walls.get(k) else { continue };
             if let Some(delta) = zone_delta(piece.length(), wall) {
                 par.zones[k] = Some(Arc::new(ZoneMap::new(p, delta)));
             }
@@ -301,14 +395,15 @@ impl Parametrisation {
     }
 
     /// Whether [`Parametrisation::with_zones`] gives some panel of the
-    /// curve `section` a corner zone for walls `wall` thick (without
+    /// curve `section` a corner zone for the piece walls `walls` (without
     /// building the maps).
-    pub fn would_zone(section: &Section, wall: f64) -> bool {
+    pub fn would_zone(section: &Section, walls: &[f64]) -> bool {
         section
             .graded_junctions()
             .iter()
             .zip(&section.pieces)
-            .any(|(&graded, piece)| graded && zone_delta(piece.length(), wall).is_some())
+            .zip(walls)
+            .any(|((&graded, piece), &wall)| graded && zone_delta(piece.length(), wall).is_some())
     }
 
     /// Number of panels that use the corner-zone map.

@@ -198,13 +198,16 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
     crate::memory::check(opts.method, curves.len(), opts.n)?;
     // corner zones (a flat panel middle for thin walls): Daubechies only,
     // whose error control was measured with them
-    let zones = match opts.method {
-        Method::Daubechies if opts.corner_zones => crate::grading::zone_wall(section),
+    let walls = match opts.method {
+        Method::Daubechies if opts.corner_zones => crate::grading::zone_walls(section),
         _ => None,
     };
     let params: Vec<Parametrisation> = curves
         .iter()
-        .map(|c| Parametrisation::with_zones(c, opts.grading, zones))
+        .enumerate()
+        .map(|(i, c)| {
+            Parametrisation::with_zones(c, opts.grading, walls.as_ref().map(|w| w[i].as_slice()))
+        })
         .collect();
     let x0 = section.centroid;
     let raw = match opts.method {

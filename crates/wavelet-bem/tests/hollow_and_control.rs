@@ -593,6 +593,58 @@ fn corner_zones_resolve_thin_boxes_at_half_the_resolution() {
     assert_eq!(s.zoned_panels(), 0);
 }
 
+/// A box whose webs are much thinner than its mean wall (flanges 0.1, webs
+/// 0.02: mean 2A/P = 0.075) sizes its corner zones and its starting n by
+/// each piece's own wall. With the mean it needed n = 4096 per curve at
+/// 1e-8 (7.4 s); now it stops at 2048, and J and Γ are within their
+/// estimates of Kress's map at 4096. A box whose walls differ less (the
+/// bench box, flanges 0.1, webs 0.05) keeps the mean wall everywhere.
+#[test]
+fn much_thinner_webs_take_their_own_wall_thickness() {
+    let mixed = sections::hollow_rectangle(2.0, 1.0, 0.1, 0.02).unwrap();
+    let walls = tecon_wavelet_bem::grading::zone_walls(&mixed).unwrap();
+    let all: Vec<f64> = walls.iter().flatten().copied().collect();
+    let (lo, hi) = all
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &w| (a.min(w), b.max(w)));
+    assert!(
+        (lo - 0.02).abs() < 1e-12 && (hi - 0.1).abs() < 1e-12,
+        "walls {all:?}"
+    );
+    let bench = sections::hollow_rectangle(2.0, 1.0, 0.1, 0.05).unwrap();
+    let mean = 2.0 * bench.area / bench.total_perimeter();
+    let bench_walls = tecon_wavelet_bem::grading::zone_walls(&bench).unwrap();
+    assert!(bench_walls.iter().flatten().all(|&w| w == mean));
+
+    let reference = solve(
+        &mixed,
+        &Options {
+            corner_zones: false,
+            ..opts_n(4096)
+        },
+    )
+    .unwrap();
+    let w_ref = reference.warping();
+    let c = solve_to_tolerance(&mixed, &Options::default(), 1e-8, 4096).unwrap();
+    let ej = rel(c.solution.torsional_rigidity, reference.torsional_rigidity);
+    let eg = rel(c.warping.warping_constant, w_ref.warping_constant);
+    eprintln!(
+        "mixed box 1e-8: n {} ({} zoned panels), J err {ej:.1e} est {:.1e}, Γ err {eg:.1e} est {:.1e}",
+        c.solution.options.n,
+        c.solution.zoned_panels(),
+        c.j_error,
+        c.warping_error
+    );
+    assert!(c.converged);
+    assert!(c.solution.options.n <= 2048, "n = {}", c.solution.options.n);
+    assert!(ej <= c.j_error, "J error {ej:e} > estimate {:e}", c.j_error);
+    assert!(
+        eg <= c.warping_error,
+        "Γ error {eg:e} > estimate {:e}",
+        c.warping_error
+    );
+}
+
 /// The warping outputs' estimates bound their true errors on the thin-walled
 /// sections engineers compute them for (the box and the I and channel of the
 /// sectionproperties comparison, and a box with t = 0.1), against solves
