@@ -339,6 +339,14 @@ fn round_off(section: &Section, unknowns: usize) -> f64 {
     unknowns as f64 * f64::EPSILON * shape
 }
 
+/// Whether `section` is so large or so small that the products of second
+/// moments in the shear centre (∝ L⁸) may leave the range of double
+/// precision: a radius of gyration outside [1e-30, 1e30].
+fn extreme_scale(section: &Section) -> bool {
+    let rg = (section.polar_moment() / section.area).sqrt();
+    !(1e-30..=1e30).contains(&rg)
+}
+
 /// Relative level below which differences between rungs may be round-off
 /// (measured: up to 5e-14 on the 1 × 0.05 ellipse at n = 1024, where the
 /// rungs agree to 1e-14): extrapolated estimates stop there.
@@ -458,9 +466,16 @@ fn finish(
     if !(fine.2.warping_constant.is_finite() && shear_centre.iter().all(|v| v.is_finite())) {
         // Γ ∝ L⁶ and the products of second moments in the shear centre ∝ L⁸
         let size = rg.max(f64::MIN_POSITIVE);
-        warnings.push(format!(
-            "the shear centre and the warping constant Γ are not finite: at this scale (radius of gyration {size:.1e}) the products of second moments (∝ L⁸) and Γ (∝ L⁶) leave the range of double precision; give the section in units that make its size nearer 1 (J and τ_max are unaffected)"
-        ));
+        if extreme_scale(sec) {
+            warnings.push(format!(
+                "the shear centre and the warping constant Γ are not finite: at this scale (radius of gyration {size:.1e}) the products of second moments (∝ L⁸) and Γ (∝ L⁶) leave the range of double precision; give the section in units that make its size nearer 1 (J and τ_max are unaffected)"
+            ));
+        } else {
+            warnings.push(format!(
+                "the shear centre and the warping constant Γ are not finite at n = {}: the warping function is not resolved on this boundary (J and τ_max carry their own estimates)",
+                fine.0.options.n
+            ));
+        }
     }
     if !converged {
         let n = fine.0.options.n;
@@ -641,15 +656,40 @@ pub fn solve_to_tolerance(
                 let coarse = ladder[used - 2].solved();
                 let older = (used == 3).then(|| ladder[0].solved());
                 let c = finish(older, coarse, fine, tol, levels.clone(), at_cap);
-                // a shear centre or Γ that is not finite (extreme scale)
-                // stays so at every n: flagged now, not after the largest n
-                let out_of_range = !(c.warping.warping_constant.is_finite()
-                    && c.warping.shear_centre.iter().all(|v| v.is_finite()));
+                // a shear centre or Γ that is not finite at an extreme
+                // scale stays so at every n: flagged now, not after the
+                // largest n (at a plain scale a finer n may resolve it)
+                let out_of_range = extreme_scale(section)
+                    && !(c.warping.warping_constant.is_finite()
+                        && c.warping.shear_centre.iter().all(|v| v.is_finite()));
                 if c.converged || at_cap || hopeless || out_of_range {
                     return Ok(with_start(c));
                 }
             }
         }
         n *= 2;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Only sizes far from 1 blame the scale for a non-finite shear centre
+    /// or Γ (the squares of side 1e40 and 1e-60 lose them, side 1e30 and
+    /// 1e-25 keep them).
+    #[test]
+    fn extreme_scales_are_told_apart_from_plain_ones() {
+        let square = crate::sections::rectangle(1.0, 1.0).unwrap();
+        for (side, extreme) in [
+            (1.0, false),
+            (1e30, false),
+            (1e-25, false),
+            (1e40, true),
+            (1e-60, true),
+        ] {
+            let s = square.scaled(side).unwrap();
+            assert_eq!(extreme_scale(&s), extreme, "side {side:e}");
+        }
     }
 }
