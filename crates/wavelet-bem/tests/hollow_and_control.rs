@@ -559,35 +559,9 @@ fn smooth_thin_walls_are_resolved_by_the_estimates() {
 #[test]
 fn corner_zones_resolve_thin_boxes_at_half_the_resolution() {
     let thin = sections::hollow_rectangle(2.0, 1.0, 0.02, 0.02).unwrap();
-    let reference = solve(
-        &thin,
-        &Options {
-            corner_zones: false,
-            ..opts_n(4096)
-        },
-    )
-    .unwrap();
-    assert_eq!(reference.zoned_panels(), 0);
-    let w_ref = reference.warping();
-    let c = solve_to_tolerance(&thin, &Options::default(), 1e-8, 4096).unwrap();
-    let ej = rel(c.solution.torsional_rigidity, reference.torsional_rigidity);
-    let eg = rel(c.warping.warping_constant, w_ref.warping_constant);
-    eprintln!(
-        "thin box 1e-8: n {} ({} zoned panels), J err {ej:.1e} est {:.1e}, Γ err {eg:.1e} est {:.1e}",
-        c.solution.options.n,
-        c.solution.zoned_panels(),
-        c.j_error,
-        c.warping_error
-    );
-    assert!(c.converged);
+    let c = within_estimates_of_kress_4096(&thin, 1e-8, "thin box");
     assert_eq!(c.solution.zoned_panels(), 8);
     assert!(c.solution.options.n <= 2048, "n = {}", c.solution.options.n);
-    assert!(ej <= c.j_error, "J error {ej:e} > estimate {:e}", c.j_error);
-    assert!(
-        eg <= c.warping_error,
-        "Γ error {eg:e} > estimate {:e}",
-        c.warping_error
-    );
     let strip = sections::rectangle(1.0, 0.02).unwrap();
     let s = solve(&strip, &opts_n(256)).unwrap();
     assert_eq!(s.zoned_panels(), 0);
@@ -616,33 +590,42 @@ fn much_thinner_webs_take_their_own_wall_thickness() {
     let bench_walls = tecon_wavelet_bem::grading::zone_walls(&bench).unwrap();
     assert!(bench_walls.iter().flatten().all(|&w| w == mean));
 
+    let c = within_estimates_of_kress_4096(&mixed, 1e-8, "mixed box");
+    assert!(c.solution.options.n <= 2048, "n = {}", c.solution.options.n);
+}
+
+/// Solves `sec` to `tol` (default options) and checks that it converged
+/// and that J and Γ are within their estimates of Kress's map (no corner
+/// zones) at n = 4096 per curve.
+fn within_estimates_of_kress_4096(sec: &Section, tol: f64, label: &str) -> Controlled {
     let reference = solve(
-        &mixed,
+        sec,
         &Options {
             corner_zones: false,
             ..opts_n(4096)
         },
     )
     .unwrap();
+    assert_eq!(reference.zoned_panels(), 0);
     let w_ref = reference.warping();
-    let c = solve_to_tolerance(&mixed, &Options::default(), 1e-8, 4096).unwrap();
+    let c = solve_to_tolerance(sec, &Options::default(), tol, 4096).unwrap();
     let ej = rel(c.solution.torsional_rigidity, reference.torsional_rigidity);
     let eg = rel(c.warping.warping_constant, w_ref.warping_constant);
     eprintln!(
-        "mixed box 1e-8: n {} ({} zoned panels), J err {ej:.1e} est {:.1e}, Γ err {eg:.1e} est {:.1e}",
+        "{label} {tol:e}: n {} ({} zoned panels), J err {ej:.1e} est {:.1e}, Γ err {eg:.1e} est {:.1e}",
         c.solution.options.n,
         c.solution.zoned_panels(),
         c.j_error,
         c.warping_error
     );
     assert!(c.converged);
-    assert!(c.solution.options.n <= 2048, "n = {}", c.solution.options.n);
     assert!(ej <= c.j_error, "J error {ej:e} > estimate {:e}", c.j_error);
     assert!(
         eg <= c.warping_error,
         "Γ error {eg:e} > estimate {:e}",
         c.warping_error
     );
+    c
 }
 
 /// The warping outputs' estimates bound their true errors on the thin-walled
