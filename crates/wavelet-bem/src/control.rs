@@ -180,23 +180,22 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     // the corner zones follow each piece's own wall where some wall is much
     // thinner than the mean (see `zone_walls`): the floor then counts nodes
     // per thickness of the thinnest wall
-    let thinnest_zoned_wall = match opts.method {
-        Method::Daubechies if opts.corner_zones => crate::grading::zone_walls(section)
-            .map(|w| w.iter().flatten().copied().fold(f64::INFINITY, f64::min)),
+    let walls = match opts.method {
+        Method::Daubechies if opts.corner_zones => crate::grading::zone_walls(section),
         _ => None,
     };
-    let thick = thinnest_zoned_wall.map_or(mean_wall, |w| w.min(mean_wall));
+    let thick = walls.as_ref().map_or(mean_wall, |w| {
+        w.iter().flatten().copied().fold(mean_wall, f64::min)
+    });
     // long graded panels of thin-walled sections with re-entrant corners
     // have corner zones and the mean spacing in their middle: 4 per thickness
-    let zoned = matches!(opts.method, Method::Daubechies)
-        && opts.corner_zones
-        && crate::grading::zone_walls(section).is_some_and(|w| {
-            section
-                .curves()
-                .iter()
-                .zip(&w)
-                .any(|(c, wc)| crate::grading::Parametrisation::would_zone(c, wc))
-        });
+    let zoned = walls.as_ref().is_some_and(|w| {
+        section
+            .curves()
+            .iter()
+            .zip(w)
+            .any(|(c, wc)| crate::grading::Parametrisation::would_zone(c, wc))
+    });
     let per_thickness = match (graded, opts.method) {
         (true, _) if zoned => 4.0,
         (true, _) => 8.0,
