@@ -49,7 +49,7 @@
 use crate::density::FourierDensity;
 use crate::geometry::{PointLocation, Section, V2};
 use crate::grading::BPoint;
-use crate::kernels::sum_lanes;
+use crate::kernels::{NodeArrays, sum_lanes};
 use crate::nystrom::kress_weights;
 use crate::solve::TorsionSolution;
 use rayon::prelude::*;
@@ -228,11 +228,8 @@ struct OmegaPairs {
     r: Vec<f64>,
     r_back: Vec<f64>,
     sines: Vec<f64>,
-    /// anchors and offsets (x = anchor + offset)
-    ax: Vec<f64>,
-    ay: Vec<f64>,
-    ox: Vec<f64>,
-    oy: Vec<f64>,
+    /// the nodes by component (anchors and offsets for x_i − x_j)
+    arrays: NodeArrays,
     /// unit normals
     nxs: Vec<f64>,
     nys: Vec<f64>,
@@ -249,9 +246,8 @@ impl OmegaPairs {
         let m = nd.m;
         let speeds: Vec<f64> = nd.pts.iter().map(|p| p.speed()).collect();
         let normals: Vec<V2> = nd.pts.iter().map(|p| p.normal()).collect();
-        // per node: unit normal, speed, ∂ω/∂n |x′| and ω |x′|, by component
-        // (contiguous loops over j)
-        let comp = |f: &dyn Fn(&BPoint) -> f64| nd.pts.iter().map(f).collect::<Vec<f64>>();
+        // per node: the node by component, unit normal, speed, ∂ω/∂n |x′|
+        // and ω |x′| (contiguous loops over j)
         OmegaPairs {
             m,
             r_back: {
@@ -261,10 +257,7 @@ impl OmegaPairs {
             },
             r: kress_weights(m),
             sines: crate::kernels::log_sines(m),
-            ax: comp(&|p| p.anchor[0]),
-            ay: comp(&|p| p.anchor[1]),
-            ox: comp(&|p| p.offset[0]),
-            oy: comp(&|p| p.offset[1]),
+            arrays: NodeArrays::new(&nd.pts),
             nxs: normals.iter().map(|v| v[0]).collect(),
             nys: normals.iter().map(|v| v[1]).collect(),
             qs: nd.flux.iter().zip(&speeds).map(|(q, s)| q * s).collect(),
@@ -293,7 +286,7 @@ impl OmegaPairs {
     #[inline(always)]
     fn rows(&self, rows: std::ops::Range<usize>) -> (Vec<f64>, Vec<f64>) {
         let (m, r, sines) = (self.m, &self.r, &self.sines);
-        let big = self.ax.len();
+        let big = self.arrays.len();
         let h = 1.0 / m as f64;
         let c8 = 1.0 / (8.0 * PI);
         let (qs, ws) = (&self.qs, &self.ws);
@@ -316,8 +309,7 @@ impl OmegaPairs {
             // x_i − x_j, exact for a shared anchor (the anchors then cancel
             // to 0 exactly, as in `diff`)
             for j in i + 1..big {
-                dx[j] = (self.ax[i] - self.ax[j]) + (self.ox[i] - self.ox[j]);
-                dy[j] = (self.ay[i] - self.ay[j]) + (self.oy[i] - self.oy[j]);
+                (dx[j], dy[j]) = self.arrays.diff(i, j);
                 lnr[j] = (dx[j] * dx[j] + dy[j] * dy[j]).max(f64::MIN_POSITIVE);
             }
             // ln r², all at once (vector instructions); halved below
