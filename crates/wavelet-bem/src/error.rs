@@ -90,6 +90,21 @@ pub enum GeometryError {
         /// the merge distance as a fraction of the perimeter
         fraction: f64,
     },
+    /// A polygon with more vertices than memory holds (refused before its
+    /// vertex lists are built).
+    #[error(
+        "a polygon of {vertices} vertices needs about {:.1} GB to set up, more than the {:.1} GB available; give fewer vertices (a wavelet solve uses at most --max-n unknowns per curve, so an outline finer than that is not resolved anyway)",
+        *needed as f64 / 1e9,
+        *available as f64 / 1e9
+    )]
+    TooManyVertices {
+        /// vertices given
+        vertices: usize,
+        /// estimated bytes
+        needed: u64,
+        /// bytes available
+        available: u64,
+    },
 }
 
 /// A bad `--section` specification or section file.

@@ -44,6 +44,30 @@ pub fn dense_bytes(method: Method, curves: usize, n: usize) -> u64 {
     }
 }
 
+/// Bytes per vertex of a polygon while it is set up: the vertex list
+/// (16), the kept vertices with their indices (24), the vertices after the
+/// collinear ones are dropped (16) and the side pieces (about 40), rounded
+/// up. The caller's own list (16 more for a built-in regular polygon) is
+/// included.
+pub const POLYGON_BYTES_PER_VERTEX: u64 = 128;
+
+/// Refuses a polygon of `vertices` vertices whose set-up needs more than
+/// `available` bytes (`None`: unknown, nothing is refused).
+pub fn check_vertices(
+    vertices: usize,
+    available: Option<u64>,
+) -> Result<(), crate::error::GeometryError> {
+    let needed = (vertices as u64).saturating_mul(POLYGON_BYTES_PER_VERTEX);
+    match available {
+        Some(avail) if needed > avail => Err(crate::error::GeometryError::TooManyVertices {
+            vertices,
+            needed,
+            available: avail,
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// `MemAvailable` from /proc/meminfo in bytes.
 fn mem_available() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;

@@ -59,6 +59,9 @@ pub fn ellipse(a: f64, b: f64) -> Result<Section, GeometryError> {
 /// at any affordable n).
 pub const MERGE_FRACTION: f64 = 1e-7;
 
+/// Merged vertex pairs named one by one in the notes; the rest are counted.
+pub const MERGE_NOTES: usize = 5;
+
 /// A vertex that lies between its neighbours and closer than this fraction
 /// of the perimeter to the line through them is dropped: the sides on
 /// either side of it are one straight side (a digitised outline often
@@ -117,6 +120,7 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
     if vertices.len() < 3 {
         return Err(GeometryError::TooFewVertices(vertices.len()));
     }
+    crate::memory::check_vertices(vertices.len(), crate::memory::available_bytes())?;
     let dist = |a: V2, b: V2| (a[0] - b[0]).hypot(a[1] - b[1]);
     let m0 = vertices.len();
     let perimeter: f64 = (0..m0)
@@ -138,11 +142,20 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
             )
         }
     };
+    // the first few merges are named, the rest counted (a finely
+    // digitised outline can merge millions of vertices)
+    let mut merges = 0usize;
+    let mut note_merge = |notes: &mut Vec<String>, j: usize, k: usize, d: f64| {
+        if merges < MERGE_NOTES {
+            notes.push(merged(j, k, d));
+        }
+        merges += 1;
+    };
     for (k, &v) in vertices.iter().enumerate() {
         if let Some(&(j, last)) = kept.last() {
             let d = dist(last, v);
             if d < cut {
-                notes.push(merged(j, k, d));
+                note_merge(&mut notes, j, k, d);
                 continue;
             }
         }
@@ -152,11 +165,17 @@ pub fn polygon(vertices: &[V2]) -> Result<Section, GeometryError> {
         let (j, last) = kept[kept.len() - 1];
         let d = dist(last, kept[0].1);
         if d < cut {
-            notes.push(merged(kept[0].0, j, d));
+            note_merge(&mut notes, kept[0].0, j, d);
             kept.pop();
         } else {
             break;
         }
+    }
+    if merges > MERGE_NOTES {
+        notes.push(format!(
+            "{} more vertex pairs closer than {MERGE_FRACTION:.0e} of the perimeter merged ({merges} in all)",
+            merges - MERGE_NOTES
+        ));
     }
     if kept.len() < 3 {
         return Err(GeometryError::TooThin {
@@ -234,6 +253,8 @@ pub fn triangle(a: f64) -> Result<Section, GeometryError> {
 
 /// Regular polygon with `n` sides and circumradius `r`, centred at the origin.
 pub fn regular_polygon(n: usize, r: f64) -> Result<Section, GeometryError> {
+    // refused before its vertex list is built
+    crate::memory::check_vertices(n, crate::memory::available_bytes())?;
     let v: Vec<V2> = (0..n)
         .map(|k| {
             let th = -PI / 2.0 + PI / n as f64 + TAU * k as f64 / n as f64;

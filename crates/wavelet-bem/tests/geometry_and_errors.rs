@@ -496,3 +496,44 @@ fn polygon_moments_are_exact() {
     assert!(close(p.ixy, -9.0 * 4.0 / 72.0), "Ixy {}", p.ixy);
     assert!(close(t.polar_moment(), p.ixx + p.iyy));
 }
+
+#[test]
+fn finely_digitised_outlines_name_a_few_merges_and_count_the_rest() {
+    // a unit square whose every vertex is repeated 20 times: 76 merges
+    let corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let v: Vec<[f64; 2]> = corners
+        .iter()
+        .flat_map(|c| std::iter::repeat_n(*c, 20))
+        .collect();
+    let s = sections::polygon(&v).unwrap();
+    assert_eq!(s.pieces.len(), 4);
+    let merges: Vec<&String> = s.notes.iter().filter(|n| n.contains("merged")).collect();
+    assert_eq!(merges.len(), sections::MERGE_NOTES + 1, "{merges:?}");
+    assert!(
+        merges[sections::MERGE_NOTES].starts_with("71 more vertex pairs")
+            && merges[sections::MERGE_NOTES].contains("(76 in all)"),
+        "{merges:?}"
+    );
+}
+
+#[test]
+fn a_polygon_larger_than_memory_is_refused_before_it_is_built() {
+    use tecon_wavelet_bem::memory::{POLYGON_BYTES_PER_VERTEX, check_vertices};
+    // 10⁹ vertices against 1 GB
+    let e = check_vertices(1_000_000_000, Some(1 << 30)).unwrap_err();
+    assert!(
+        matches!(e, GeometryError::TooManyVertices { vertices: 1_000_000_000, needed, .. }
+            if needed == 1_000_000_000 * POLYGON_BYTES_PER_VERTEX),
+        "{e:?}"
+    );
+    assert!(e.to_string().contains("1000000000 vertices"), "{e}");
+    assert!(check_vertices(1000, Some(1 << 30)).is_ok());
+    // unknown memory: nothing refused
+    assert!(check_vertices(1_000_000_000, None).is_ok());
+    // the built-in regular polygon checks before building its vertex list
+    // (where the memory can be read: Linux)
+    if tecon_wavelet_bem::memory::available_bytes().is_some() {
+        let e = sections::regular_polygon(usize::MAX / 2, 1.0).unwrap_err();
+        assert!(matches!(e, GeometryError::TooManyVertices { .. }), "{e:?}");
+    }
+}
