@@ -46,7 +46,7 @@ struct VesselCmd {
     #[command(flatten)]
     folder: FolderArgs,
     /// Yield stress, Pa: report the regions where the von Mises stress exceeds it.
-    #[arg(long = "yield", value_name = "PA")]
+    #[arg(long = "yield", value_name = "PA", allow_hyphen_values = true)]
     yield_stress: Option<f64>,
 }
 

@@ -54,7 +54,7 @@ pub struct TorsionArgs {
     pub section: String,
     /// Relative tolerance on J, τ_max, the shear centre and Γ (error control: n doubles until
     /// two resolutions agree)
-    #[arg(long, default_value_t = 1e-8)]
+    #[arg(long, default_value_t = 1e-8, allow_hyphen_values = true)]
     pub tol: f64,
     /// Largest n the error control may use (dense solves: n = 4096 takes seconds)
     #[arg(long, default_value_t = DEFAULT_N_MAX)]
@@ -73,7 +73,7 @@ pub struct TorsionArgs {
     #[arg(long, default_value = "db4")]
     pub wavelet: String,
     /// Kress grading exponent at corners (default 8; 4 at a cusp)
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub grading: Option<f64>,
 
     /// Kress's grading map on every panel: no corner zones on the long
@@ -95,7 +95,7 @@ pub struct TorsionArgs {
     #[arg(long, value_name = "EPS", hide = true)]
     pub compress: Option<f64>,
     /// Interior points "x1,y1;x2,y2;..." where u and the stresses are reported
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub points: Option<String>,
 }
 

@@ -696,13 +696,13 @@ pub struct VesselArgs {
     pub interface: String,
     /// Friction coefficient μ = tan φ of the core/layer joint (frictional
     /// only; default 0.3).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub friction: Option<f64>,
     /// Cohesion of the joint, Pa (frictional only; default 0).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub cohesion: Option<f64>,
     /// Internal (operating) pressure applied after cooling, Pa.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub pressure: Option<f64>,
     /// Fuse the weld to the core (no interface under the weld).
     #[arg(long)]
@@ -736,10 +736,15 @@ pub struct VesselArgs {
     pub sync_interval: Option<usize>,
     /// Two-way, adaptive blocks: the largest relative conductance error
     /// accepted in a block (default 0.01).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub sync_tolerance: Option<f64>,
     /// Output times, s (comma-separated; the last ends the cooling).
-    #[arg(long, value_delimiter = ',', default_value = "1,10,60,600,3600,72000")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,10,60,600,3600,72000",
+        allow_hyphen_values = true
+    )]
     pub times: Vec<f64>,
     /// `--study mesh`: the case on meshes g0, g1, g2 (with `--mesh` a uniform
     /// level or `paper`: paper, 1, 2, 3, 4) with a convergence table.
@@ -750,12 +755,12 @@ pub struct VesselArgs {
     #[arg(long)]
     pub layers: Option<usize>,
     /// Multilayer: thickness of every layer, m.
-    #[arg(long, default_value_t = 6.4e-3)]
+    #[arg(long, default_value_t = 6.4e-3, allow_hyphen_values = true)]
     pub layer_thickness: f64,
     /// Multilayer: seam angle of each layer, degrees in [0, 360)
     /// (comma-separated, one per layer; default staggered evenly, 360°(k − 1)/N).
     /// Seams all at 0° or 180° give a half section, any other the full ring.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub seams: Option<Vec<f64>>,
     /// Output folder.
     #[arg(long, default_value = "tecon-out/vessel")]

@@ -40,3 +40,67 @@ fn binary_exits_2_with_one_line_and_writes_nothing() {
     );
     assert!(!out.exists(), "nothing written");
 }
+
+#[test]
+fn negative_numbers_reach_the_checks_that_name_them() {
+    // a value written with a leading minus is the option's value, not an
+    // unknown flag: the option's own check names it (or it is used)
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results");
+    let tecon = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    for (args, says) in [
+        (
+            &["vessel", "--mesh", "paper", "--friction", "-1"][..],
+            "--friction -1: must be a non-negative coefficient",
+        ),
+        (
+            &["vessel", "--mesh", "paper", "--times", "-1,2"][..],
+            "--times: value 1 is -1",
+        ),
+        (
+            &["vessel", "--mesh", "paper", "--yield", "-1"][..],
+            "--yield -1",
+        ),
+        (
+            &["vessel", "--layers", "2", "--seams", "-10,0"][..],
+            "--seams: -10°",
+        ),
+        (
+            &["torsion", "--section", "circle:r=1", "--tol", "-1"][..],
+            "--tol: need 0 < TOL < 1, got -1",
+        ),
+    ] {
+        let o = tecon(args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+    }
+    // interior points with negative coordinates
+    let o = tecon(&[
+        "torsion",
+        "--section",
+        "circle:r=1",
+        "--points",
+        "-0.5,0.1",
+        "--format",
+        "json",
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let p = &v["interior"][0];
+    // the unit disc: u = (1 − x² − y²)/2, τ_xz = −y, τ_yz = x
+    assert_eq!(p["x"][0].as_f64(), Some(-0.5), "{p}");
+    let close = |key: &str, want: f64| (p[key].as_f64().unwrap() - want).abs() < 1e-9;
+    assert!(
+        close("u", 0.37) && close("tau_xz", -0.1) && close("tau_yz", -0.5),
+        "{p}"
+    );
+}
