@@ -307,3 +307,38 @@ fn bad_input_gives_one_line_errors() {
     let (ok, _, err) = tecon(&["--section", f.to_str().unwrap()]);
     assert!(!ok && err.contains("piece[0].radius"), "{err}");
 }
+
+#[test]
+fn a_point_next_to_the_boundary_reports_its_distance_and_round_off() {
+    // 1e-9 inside the ellipse 1 × 0.5 at its vertex: τ_yz = 2b²x/(a² + b²)
+    let v = json(&[
+        "--section",
+        "ellipse:a=1,b=0.5",
+        "--points",
+        "0.999999999,0;0.5,0",
+    ]);
+    let near = &v["interior"][0];
+    let tau = near["tau_yz"].as_f64().unwrap();
+    assert!((tau - 0.4 * 0.999999999).abs() < 1e-7, "{near}");
+    let d = near["distance"].as_f64().unwrap();
+    assert!(d > 0.99e-9 && d < 1.2e-9, "{near}");
+    let ro = near["round_off"].as_f64().unwrap();
+    assert!(ro > 1e-8 && (tau - 0.4 * 0.999999999).abs() < ro, "{near}");
+    // its round-off bound exceeds the default tolerance 1e-8: a warning
+    // names the point; the far point has none
+    let warnings = v["warnings"].as_array().unwrap();
+    assert_eq!(
+        warnings
+            .iter()
+            .filter(|w| w.as_str().unwrap().starts_with("point "))
+            .count(),
+        1,
+        "{warnings:?}"
+    );
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().starts_with("point 1 (")),
+        "{warnings:?}"
+    );
+}
