@@ -119,12 +119,24 @@ impl UpdatedCholesky {
             }
             rhs.copy_from_slice(&b);
         }
-        self.cholesky.factorise(matrix)?;
+        if let Err(e) = self.cholesky.factorise(matrix) {
+            // a factorisation that failed part-way leaves no usable factor
+            self.invalidate();
+            return Err(e);
+        }
         self.base = Some(matrix.values().to_vec());
         self.columns.clear();
         self.stats.factorisations += 1;
         self.cholesky.solve(rhs)?;
         Ok(SolveKind::Factorised)
+    }
+
+    /// Forgets the numeric factor (a factorisation that failed part-way
+    /// may have left it unusable): the next solve factorises afresh. The
+    /// symbolic analysis, which depends on the pattern alone, is kept.
+    pub fn invalidate(&mut self) {
+        self.base = None;
+        self.columns.clear();
     }
 
     /// Rows whose values differ from the factorised matrix (None: nothing
@@ -388,6 +400,36 @@ mod tests {
         let mut x = b.clone();
         assert_eq!(s.solve(&a2, &mut x).unwrap(), SolveKind::Corrected(2));
         let exact = solve_fresh(&a2, &b);
+        assert!(max_abs(x.iter().zip(&exact).map(|(p, q)| p - q)) < 1e-12);
+    }
+
+    #[test]
+    fn a_failed_factorisation_leaves_no_stale_factor() {
+        let n = 40;
+        let a = tridiagonal(n);
+        let b: Vec<f64> = (0..n).map(|i| (i % 7) as f64 - 3.0).collect();
+        let mut s = UpdatedCholesky::analyse(a.pattern().clone(), 8).unwrap();
+        let mut x = b.clone();
+        s.solve(&a, &mut x).unwrap();
+        // an indefinite matrix (9 changed dofs > 8: a factorisation) fails
+        let mut bad = a.clone();
+        for i in 10..19 {
+            set(&mut bad, i, i, -5.0);
+        }
+        let mut x = b.clone();
+        assert!(s.solve(&bad, &mut x).is_err());
+        // the next matrix, one dof away from the first, is factorised
+        // afresh (not corrected from the factor the failure overwrote)
+        let mut a2 = a.clone();
+        set(&mut a2, 30, 30, 2.7);
+        let mut x = b.clone();
+        assert_eq!(s.solve(&a2, &mut x).unwrap(), SolveKind::Factorised);
+        let exact = solve_fresh(&a2, &b);
+        assert!(max_abs(x.iter().zip(&exact).map(|(p, q)| p - q)) < 1e-12);
+        // invalidate: the same matrix is factorised again, not reused
+        s.invalidate();
+        let mut x = b.clone();
+        assert_eq!(s.solve(&a2, &mut x).unwrap(), SolveKind::Factorised);
         assert!(max_abs(x.iter().zip(&exact).map(|(p, q)| p - q)) < 1e-12);
     }
 }

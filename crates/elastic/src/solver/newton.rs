@@ -92,8 +92,11 @@ impl StaticSolver<'_> {
                             // true energy) stops it at the kink; the next tangent
                             // has a sticking point again. A body that stays free
                             // with it fails below, named.
-                            // (the failed factorisation may have left the factor unusable)
-                            self.cholesky = None;
+                            // (the failed factorisation may have left the factor
+                            // unusable; its symbolic analysis stays)
+                            if let Some(c) = self.cholesky.as_mut() {
+                                c.invalidate();
+                            }
                             let mut ks =
                                 self.slip_stabilised_tangent(&u, committed, SLIP_STABILISATION)?;
                             self.rotations.rotate_matrix(&mut ks);
@@ -192,7 +195,10 @@ impl StaticSolver<'_> {
         self.prepared.apply_scaled(&mut kt, &mut du, 0.0);
         if self.solve(&kt, &mut du, true, accept).is_err() {
             // e.g. a body left without support: start the factor afresh
-            self.cholesky = None;
+            // (the symbolic analysis stays)
+            if let Some(c) = self.cholesky.as_mut() {
+                c.invalidate();
+            }
             return Ok(None);
         }
         if dot(r, &du) <= 0.0 {
