@@ -32,7 +32,7 @@ use tecon_fem::{CondensedCholesky, FemError};
 use crate::error::{ElasticError, IterationRecord};
 
 use super::line_search::root_along_ray;
-use super::newton::{KEEP_PREDICTED_STEP, ROUND_OFF_FACTOR};
+use super::newton::ROUND_OFF_FACTOR;
 use super::tracker::PassTracker;
 use super::*;
 
@@ -411,17 +411,15 @@ impl StaticSolver<'_> {
                 match cx.chol.solve_schur(&gp, &mut du, accept) {
                     Ok((_, sx)) if dot(&r_g, &du) > 0.0 => {
                         let s_du = Self::bulk_product(cx, &gp, &du, sx);
+                        // kept with its exact line-search step, however
+                        // short (see `StaticSolver::predicted_step`)
                         let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
-                        if step < KEEP_PREDICTED_STEP {
-                            None
-                        } else {
-                            let end = ray.at(&du, step);
-                            let status = self.statuses(&end, committed);
-                            let all_open = predicted
-                                .iter()
-                                .all(|&i| status[i].0.0 == ContactStatus::Open);
-                            Some((du, s_du, step, all_open))
-                        }
+                        let end = ray.at(&du, step);
+                        let status = self.statuses(&end, committed);
+                        let all_open = predicted
+                            .iter()
+                            .all(|&i| status[i].0.0 == ContactStatus::Open);
+                        Some((du, s_du, step, all_open))
                     }
                     _ => None,
                 }
