@@ -21,7 +21,8 @@
 //! is discarded: the trial counts as an iteration, `reach` falls back to 1
 //! and the exact Newton step is taken. (Until session 18 a kept step also
 //! had to reach half its length; the rejections cost one iteration in five
-//! of the first pass on `t1e5`: 45 iterations there then, 35 now.)
+//! of the first pass on `t1e5`, whose first increment, frictionless, took
+//! 45 iterations then and 35 now.)
 //! The exact energy line search follows every step, so the pass stays a
 //! descent method on the convex energy of the pass; the converged answer
 //! does not depend on the prediction (the convergence test is unchanged).
