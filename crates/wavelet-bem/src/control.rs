@@ -305,9 +305,10 @@ const EXTRAPOLATE_BELOW: f64 = 0.25;
 /// by a factor ρ per doubling, e_n = d_k ρ/(1 − ρ) (Aitken). We use
 /// ρ_e = max(ρ, floor) and a safety factor 2: e_n ≈ 2 d_k ρ_e/(1 − ρ_e).
 /// Round-off does not shrink with n, so the estimate never goes below
-/// min(d_k, [`DIFFERENCE_NOISE`]): below that level it is the plain difference.
-/// Every estimate is at least [`round_off`]: the round-off of a dense
-/// solve, which no difference of rungs can see.
+/// min(d_k, noise), noise = max([`DIFFERENCE_NOISE`], [`NOISE_OVER_ROUND_OFF`]
+/// × round-off): a difference at that level may be round-off, and then it
+/// is the plain difference. Every estimate is at least [`round_off`]: the
+/// round-off of a dense solve, which no difference of rungs can see.
 fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
     // a quantity that is not finite (NaN: over- or underflow at an extreme
     // scale) has no error estimate: never let `max` turn NaN into round-off
@@ -317,7 +318,8 @@ fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
     let e = match (d.before, floor) {
         (Some(before), Some(f)) if before > 0.0 && d.last <= EXTRAPOLATE_BELOW * before => {
             let rho = (d.last / before).max(f);
-            (2.0 * d.last * rho / (1.0 - rho)).max(d.last.min(DIFFERENCE_NOISE))
+            let noise = DIFFERENCE_NOISE.max(NOISE_OVER_ROUND_OFF * round_off);
+            (2.0 * d.last * rho / (1.0 - rho)).max(d.last.min(noise))
         }
         _ => d.last,
     };
@@ -325,16 +327,36 @@ fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
 }
 
 /// Round-off level of a result with `unknowns` unknowns on `section`:
-/// N ε √(P²/4πA) (P all boundary curves, A the area; the shape factor is 1
-/// for a disc and grows with slenderness). Measured: τ_max of the 1 × 0.05
-/// ellipse at n = 1024 is 1.3e-13 off while its rungs agree to 8.6e-14, J of
-/// the 1 × 0.02 ellipse at n = 2048 1.6e-12 off while they agree to 5.5e-13
-/// (N ε alone: 4.5e-13; with the factor 4.5: 2.0e-12).
+/// N ε s, with the shape factor s = P²/4πA on a single curve and its square
+/// root on a section with holes (P all boundary curves, A the area; s is 1
+/// for a disc and grows with slenderness). It is a scale, not a bound.
+///
+/// Measured as the spread of J and Γ when the section is translated,
+/// rotated by 30° and 90°, or its vertices renumbered (the exact answers
+/// and the discretisation stay, round-off moves), over N ε:
+///
+/// * single curves with walls of 0.02 (an angle and an I 1 deep, N = 4096,
+///   P²/4πA = 32): J 15–20, Γ up to 32; the angle with walls of 0.05
+///   (N = 2048, 13): J 4, Γ 6.4; the strip 1 × 0.02 (N = 2048, 16.6): 3.4.
+///   The square root (5.7) under-estimated the thin angle 6-fold;
+/// * the box 2 × 1 with walls of 0.02 (two curves, N = 4096, P²/4πA = 94):
+///   0.1, and the box with flanges 0.1 and webs 0.05: 0.03. The walls of a
+///   box lie between two curves, and its round-off does not grow with its
+///   slenderness: the square root (9.7, 4.4) bounds it with room;
+/// * the rectangle 1 × 2 and the hexagon: below 3 (the factor 1.4, 1.1).
+///
+/// Before that: τ_max of the 1 × 0.05 ellipse at n = 1024 is 1.3e-13 off
+/// while its rungs agree to 8.6e-14, J of the 1 × 0.02 ellipse at n = 2048
+/// 1.6e-12 off while they agree to 5.5e-13 (N ε: 4.5e-13; the factor 20
+/// gives 9e-12).
 fn round_off(section: &Section, unknowns: usize) -> f64 {
     let p = section.total_perimeter();
-    let shape = (p * p / (4.0 * std::f64::consts::PI * section.area))
-        .sqrt()
-        .max(1.0);
+    let slenderness = (p * p / (4.0 * std::f64::consts::PI * section.area)).max(1.0);
+    let shape = if section.holes.is_empty() {
+        slenderness
+    } else {
+        slenderness.sqrt()
+    };
     unknowns as f64 * f64::EPSILON * shape
 }
 
@@ -350,6 +372,16 @@ fn extreme_scale(section: &Section) -> bool {
 /// (measured: up to 5e-14 on the 1 × 0.05 ellipse at n = 1024, where the
 /// rungs agree to 1e-14): extrapolated estimates stop there.
 const DIFFERENCE_NOISE: f64 = 1e-12;
+
+/// How far above the [`round_off`] model a difference between rungs may
+/// still be round-off. The model is a scale, not a bound: on slender single
+/// curves (an angle, a T and an I with walls of 0.02, n = 4096) it gives
+/// 5.2e-12 while J moves by 1.2e-11 – 1.9e-11 and Γ by up to 3e-11 when
+/// the same section is translated, rotated or its vertices renumbered
+/// (changes that leave the exact answers and the discretisation as they
+/// are: what moves is round-off). Extrapolating such a difference as if it
+/// were discretisation error reported 5.2e-12.
+const NOISE_OVER_ROUND_OFF: f64 = 10.0;
 
 /// Error floors of the unresolved nearly flat vertices of a polygon
 /// parametrised by arc length without grading
