@@ -104,3 +104,36 @@ fn negative_numbers_reach_the_checks_that_name_them() {
         "{p}"
     );
 }
+
+#[test]
+fn an_overflowing_load_fails_at_once_and_says_why() {
+    // 1e300 Pa overflows the products of the residual: Newton stops at its
+    // first iterate instead of iterating on NaN to its limit in every
+    // cut-back (150 iterations × 11 attempts before)
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args([
+            "vessel",
+            "--mesh",
+            "paper",
+            "--pressure",
+            "1e300",
+            "--quiet",
+        ])
+        .arg("--out")
+        .arg(dir.path().join("results"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("the residual is not finite")
+            && stderr.contains("overflows double precision")
+            && stderr.contains("the halved increment overflowed too"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.matches("it  0:").count() >= 1 && !stderr.contains("it  1:"),
+        "{stderr}"
+    );
+}

@@ -88,7 +88,10 @@ impl StaticSolver<'_> {
                         .as_ref()
                         .is_some_and(|prev| same_history(prev, &history));
                     if 0.5 * ds < self.options.min_increment || same_problem {
-                        let reason = if same_problem {
+                        let overflow = history.last().is_some_and(|h| !h.residual.is_finite());
+                        let reason = if same_problem && overflow {
+                            format!("{reason}; the halved increment overflowed too")
+                        } else if same_problem {
                             format!(
                                 "{reason}; the halved increment failed along the same iteration history (the same problem at every load fraction: from an unloaded state the joint laws are homogeneous in the load), so no smaller increment was tried"
                             )
@@ -341,13 +344,16 @@ fn relax_friction(old: &[PointStates], updated: &mut [PointStates]) {
 /// Two failed attempts' histories agree: the same passes, statuses and
 /// status changes at every iterate, and relative residuals within 1e-6 of
 /// each other (the residuals are relative to the increment's force scale,
-/// so a scaled problem gives the same numbers up to round-off).
+/// so a scaled problem gives the same numbers up to round-off), or both
+/// not finite (an overflow that a smaller load fraction does not mend).
 fn same_history(a: &[IterationRecord], b: &[IterationRecord]) -> bool {
     a.len() == b.len()
         && a.iter().zip(b).all(|(x, y)| {
             x.pass == y.pass
                 && x.status == y.status
                 && x.changed == y.changed
-                && (x.residual - y.residual).abs() <= 1e-6 * x.residual.abs().max(y.residual.abs())
+                && ((x.residual - y.residual).abs()
+                    <= 1e-6 * x.residual.abs().max(y.residual.abs())
+                    || !(x.residual.is_finite() || y.residual.is_finite()))
         })
 }

@@ -132,6 +132,16 @@ impl PassTracker {
             predicted: 0,
             rejected: false,
         });
+        if !rel.is_finite() {
+            // no step can mend an overflow: Newton would iterate on NaN to
+            // its limit
+            return Err(failure(
+                format!(
+                    "the residual is not finite ({rel}) at iteration {it}: a load, temperature or material value overflows double precision"
+                ),
+                std::mem::take(&mut self.history),
+            ));
+        }
         let done = converged || (rel == 0.0 && changed == 0);
         if !done && self.ping_pong > opts.max_ping_pong {
             return Err(failure(
