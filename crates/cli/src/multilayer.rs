@@ -192,6 +192,9 @@ pub struct StageResult {
     pub thermal_steps: usize,
     /// Largest relative heat-balance residual of the stage's outputs.
     pub heat_balance: f64,
+    /// Wall-clock seconds of the stage's heat conduction and of its
+    /// contact solves (`timing.json`).
+    pub seconds: (f64, f64),
 }
 
 /// A finished multilayer run.
@@ -401,6 +404,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             .ok_or("thermal: no initial temperature")?;
         reference.extend_from_slice(&own[reference.len()..]);
         let mut outputs = Vec::new();
+        let heat_clock = std::time::Instant::now();
         let summary = tecon_thermal::run_transient(
             &system,
             &schedule(end)?,
@@ -415,6 +419,8 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             },
         )
         .map_err(|e| format!("stage {k}: heat conduction: {e}"))?;
+        let heat_seconds = heat_clock.elapsed().as_secs_f64();
+        let contact_clock = std::time::Instant::now();
         // contact with layer k activated on the deformed assembly
         references.push(previous.displacement.clone());
         let model = stage_elastic_model(o, &mesh, k, &references)?;
@@ -476,6 +482,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             newton_iterations: newton,
             thermal_steps: summary.steps,
             heat_balance: summary.max_balance_residual,
+            seconds: (heat_seconds, contact_clock.elapsed().as_secs_f64()),
         });
     }
     if let Some(p) = o.pressure {
@@ -483,6 +490,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             eprintln!("stage {}/{n_stages}: internal pressure {p:e} Pa", n + 1);
         }
         let last = stages.last().ok_or("no layer stage")?;
+        let contact_clock = std::time::Instant::now();
         let model = stage_elastic_model(o, &mesh, n, &references)?.pressure("inner", p)?;
         let mut solver = StaticSolver::new(&model, solver_options)?;
         // the pressure is new: it starts from factor 0
@@ -523,6 +531,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             newton_iterations: newton,
             thermal_steps: 0,
             heat_balance: 0.0,
+            seconds: (0.0, contact_clock.elapsed().as_secs_f64()),
         });
     }
     Ok(MultilayerRun {

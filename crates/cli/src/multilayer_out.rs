@@ -318,9 +318,29 @@ pub fn write_outputs(run: &MultilayerRun, dir: &Path) -> CliResult<Vec<String>> 
             &serde_json::to_string_pretty(&summary(run))?,
         )?;
         names.push("summary.json".into());
+        // wall times apart, so that summary.json is bitwise the same for
+        // any thread count (as for `tecon vessel` and `tecon run`)
+        writers::write(
+            &tmp.join("timing.json"),
+            &(serde_json::to_string_pretty(&timing(run))? + "\n"),
+        )?;
+        names.push("timing.json".into());
         Ok(names.clone())
     })?;
     Ok(names)
+}
+
+/// Wall-clock seconds of the run and of each stage's heat conduction and
+/// contact solves.
+pub fn timing(run: &MultilayerRun) -> Value {
+    json!({
+        "seconds": run.seconds,
+        "stages": run.stages.iter().enumerate().map(|(i, st)| json!({
+            "stage": i + 1,
+            "seconds_heat_conduction": st.seconds.0,
+            "seconds_contact": st.seconds.1,
+        })).collect::<Vec<_>>(),
+    })
 }
 
 /// A short text report.

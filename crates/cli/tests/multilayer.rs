@@ -481,12 +481,24 @@ times = [72000.0]
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for f in [
         "summary.json",
+        "timing.json",
         "stage1_summary.json",
         "stage1_hoop_through_wall.csv",
         "multilayer.pvd",
     ] {
         assert!(out.join(f).is_file(), "{f}");
     }
+    // wall times in timing.json only, one entry per stage
+    let timing: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("timing.json")).unwrap()).unwrap();
+    assert_eq!(
+        timing["stages"].as_array().map(Vec::len),
+        Some(1),
+        "{timing}"
+    );
+    assert!(timing["stages"][0]["seconds_contact"].as_f64().unwrap() > 0.0);
+    let summary_text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(!summary_text.contains("seconds"), "{summary_text}");
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let worst = s["max_relative_error_ring_means"].as_f64().unwrap();
