@@ -803,25 +803,18 @@ fn round_off_of_slender_single_curves_is_reported() {
             )
         })
         .collect();
+    // (value, reported relative error) of J and of Γ, for every pair of runs
     for a in &results {
         for b in &results {
-            let (dj, dg) = ((a.0 - b.0).abs() / a.0.abs(), (a.2 - b.2).abs() / a.2.abs());
-            assert!(
-                dj <= a.1 + b.1,
-                "J {} vs {}: {dj:.2e} > {:.2e} + {:.2e}",
-                a.0,
-                b.0,
-                a.1,
-                b.1
-            );
-            assert!(
-                dg <= a.3 + b.3,
-                "Γ {} vs {}: {dg:.2e} > {:.2e} + {:.2e}",
-                a.2,
-                b.2,
-                a.3,
-                b.3
-            );
+            for (name, (va, ea), (vb, eb)) in
+                [("J", (a.0, a.1), (b.0, b.1)), ("Γ", (a.2, a.3), (b.2, b.3))]
+            {
+                let d = (va - vb).abs() / va.abs();
+                assert!(
+                    d <= ea + eb,
+                    "{name} {va} vs {vb}: {d:.2e} > {ea:.2e} + {eb:.2e}"
+                );
+            }
         }
     }
 }
