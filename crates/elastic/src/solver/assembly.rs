@@ -464,8 +464,26 @@ impl StaticSolver<'_> {
         committed: &[PointStates],
         with_matrix: bool,
     ) -> Result<(Option<CsrMatrix>, Vec<f64>), ElasticError> {
-        let mut f_int = vec![0.0; u.len()];
-        self.k_bulk.mul_vec(u, &mut f_int);
+        self.tangent_and_force_from(u, &self.bulk_force(u), committed, with_matrix)
+    }
+
+    /// The bulk's internal force K u (the bulk is linear).
+    pub(super) fn bulk_force(&self, u: &[f64]) -> Vec<f64> {
+        let mut ku = vec![0.0; u.len()];
+        self.k_bulk.mul_vec(u, &mut ku);
+        ku
+    }
+
+    /// [`StaticSolver::tangent_and_force`] with the bulk force `ku` = K u
+    /// already known (one sparse product less per Newton iteration).
+    pub(super) fn tangent_and_force_from(
+        &self,
+        u: &[f64],
+        ku: &[f64],
+        committed: &[PointStates],
+        with_matrix: bool,
+    ) -> Result<(Option<CsrMatrix>, Vec<f64>), ElasticError> {
+        let mut f_int = ku.to_vec();
         let mut kt = with_matrix.then(|| self.k_bulk.clone());
         self.add_interfaces(u, committed, kt.as_mut(), &mut f_int)?;
         Ok((kt, f_int))

@@ -9,21 +9,20 @@ impl StaticSolver<'_> {
     /// the root of `g(α) = −R(u + α du)·du`, which increases with `α`. The
     /// full step is taken when it does not overshoot; otherwise a few
     /// Illinois (false-position) steps find the root. `du_rotated` is `du`
-    /// in the frame of the residual `r`.
+    /// in the frame of the residual `r`; `ku` = K u, the bulk force at `u`.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn energy_line_search(
         &self,
         f_ext: &[f64],
         committed: &[PointStates],
         u: &[f64],
+        ku: &[f64],
         du: &[f64],
         du_rotated: &[f64],
         r: &[f64],
     ) -> Result<f64, ElasticError> {
         // the bulk is linear: K (u + α du) = K u + α K du
-        let mut ku = vec![0.0; u.len()];
-        let mut kdu = vec![0.0; u.len()];
-        self.k_bulk.mul_vec(u, &mut ku);
-        self.k_bulk.mul_vec(du, &mut kdu);
+        let kdu = self.bulk_force(du);
         let g = |alpha: f64| -> Result<f64, ElasticError> {
             let trial: Vec<f64> = u.iter().zip(du).map(|(a, b)| a + alpha * b).collect();
             let mut fi: Vec<f64> = ku.iter().zip(&kdu).map(|(a, b)| a + alpha * b).collect();

@@ -22,7 +22,10 @@ impl StaticSolver<'_> {
         let mut t = PassTracker::new(norm(f_ext), pass);
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
         while t.history.len() < opts.max_iterations {
-            let (kt, f_int) = self.tangent_and_force(&u, committed, true)?;
+            // K u once per iterate: the tangent, the predicted branch and
+            // the line search all start from it
+            let ku = self.bulk_force(&u);
+            let (kt, f_int) = self.tangent_and_force_from(&u, &ku, committed, true)?;
             let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             let status_t = self.statuses(&u, committed);
             let r = self.residual(f_ext, &f_int);
@@ -42,7 +45,7 @@ impl StaticSolver<'_> {
             }
             if let Some(damped) = t.damped_points() {
                 let flagged = self.with_secant_slip(committed, damped);
-                let (k2, _) = self.tangent_and_force(&u, &flagged, true)?;
+                let (k2, _) = self.tangent_and_force_from(&u, &ku, &flagged, true)?;
                 kt = k2.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             }
             // Tangent in the rotated frame, homogeneous constraints on the correction.
@@ -66,7 +69,7 @@ impl StaticSolver<'_> {
             let trial = if predicted.is_empty() {
                 None
             } else {
-                self.predicted_step(f_ext, committed, &u, &r, &predicted, accept)?
+                self.predicted_step(f_ext, committed, &u, &ku, &r, &predicted, accept)?
             };
             let (du, du_rotated, known_step) = match trial {
                 Some((du, du_rotated, step, all_open)) => {
@@ -114,7 +117,7 @@ impl StaticSolver<'_> {
             let step = if let Some(step) = known_step {
                 step
             } else if symmetric {
-                self.energy_line_search(f_ext, committed, &u, &du, &du_rotated, &r)?
+                self.energy_line_search(f_ext, committed, &u, &ku, &du, &du_rotated, &r)?
             } else {
                 self.residual_line_search(f_ext, committed, &u, &du, &r)?
             };
@@ -180,18 +183,19 @@ impl StaticSolver<'_> {
     /// `None` otherwise. A short step is kept too: rejecting it (as below
     /// half a step, before) cost a second solve for the exact Newton step,
     /// one iteration in five of the first pass on `t1e5`.
-    #[allow(clippy::type_complexity)]
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn predicted_step(
         &mut self,
         f_ext: &[f64],
         committed: &[PointStates],
         u: &[f64],
+        ku: &[f64],
         r: &[f64],
         predicted: &[usize],
         accept: f64,
     ) -> Result<Option<(Vec<f64>, Vec<f64>, f64, bool)>, ElasticError> {
         let forced = self.forced_open(committed, predicted);
-        let (kt, f_int) = self.tangent_and_force(u, &forced, true)?;
+        let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
         let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
         self.rotations.rotate_matrix(&mut kt);
         let mut du = self.residual(f_ext, &f_int);
@@ -209,7 +213,7 @@ impl StaticSolver<'_> {
         }
         let du_rotated = du.clone();
         self.rotations.unrotate_vector(&mut du);
-        let step = self.energy_line_search(f_ext, committed, u, &du, &du_rotated, r)?;
+        let step = self.energy_line_search(f_ext, committed, u, ku, &du, &du_rotated, r)?;
         let end: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
         let status = self.statuses(&end, committed);
         let all_open = predicted
