@@ -320,7 +320,7 @@ const EXTRAPOLATE_BELOW: f64 = 0.25;
 /// × round-off): a difference at that level may be round-off, and then it
 /// is the plain difference. Every estimate is at least [`round_off`]: the
 /// round-off of a dense solve, which no difference of rungs can see.
-fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
+fn estimate(d: &Differences, floor: Option<f64>, round_off: RoundOff) -> f64 {
     // a quantity that is not finite (NaN: over- or underflow at an extreme
     // scale) has no error estimate: never let `max` turn NaN into round-off
     if !d.last.is_finite() {
@@ -329,12 +329,20 @@ fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
     let e = match (d.before, floor) {
         (Some(before), Some(f)) if before > 0.0 && d.last <= EXTRAPOLATE_BELOW * before => {
             let rho = (d.last / before).max(f);
-            let noise = DIFFERENCE_NOISE.max(NOISE_OVER_ROUND_OFF * round_off);
+            let noise = DIFFERENCE_NOISE.max(round_off.noise);
             (2.0 * d.last * rho / (1.0 - rho)).max(d.last.min(noise))
         }
         _ => d.last,
     };
-    e.max(round_off)
+    e.max(round_off.scale)
+}
+
+/// The round-off of a solve: its scale (the floor of every estimate) and
+/// the level below which a difference between rungs may be round-off.
+#[derive(Clone, Copy, Debug)]
+struct RoundOff {
+    scale: f64,
+    noise: f64,
 }
 
 /// Round-off level of a result with `unknowns` unknowns on `section`:
@@ -360,15 +368,24 @@ fn estimate(d: &Differences, floor: Option<f64>, round_off: f64) -> f64 {
 /// while its rungs agree to 8.6e-14, J of the 1 × 0.02 ellipse at n = 2048
 /// 1.6e-12 off while they agree to 5.5e-13 (N ε: 4.5e-13; the factor 20
 /// gives 9e-12).
-fn round_off(section: &Section, unknowns: usize) -> f64 {
+fn round_off(section: &Section, unknowns: usize) -> RoundOff {
     let p = section.total_perimeter();
     let slenderness = (p * p / (4.0 * std::f64::consts::PI * section.area)).max(1.0);
-    let shape = if section.holes.is_empty() {
-        slenderness
+    let scale = unknowns as f64 * f64::EPSILON;
+    if section.holes.is_empty() {
+        let scale = scale * slenderness;
+        RoundOff {
+            scale,
+            noise: NOISE_OVER_ROUND_OFF * scale,
+        }
     } else {
-        slenderness.sqrt()
-    };
-    unknowns as f64 * f64::EPSILON * shape
+        // the square root is already 40-300 × the measured spread of boxes
+        let scale = scale * slenderness.sqrt();
+        RoundOff {
+            scale,
+            noise: scale,
+        }
+    }
 }
 
 /// Whether `section` is so large or so small that the products of second
@@ -384,9 +401,11 @@ fn extreme_scale(section: &Section) -> bool {
 /// rungs agree to 1e-14): extrapolated estimates stop there.
 const DIFFERENCE_NOISE: f64 = 1e-12;
 
-/// How far above the [`round_off`] model a difference between rungs may
-/// still be round-off. The model is a scale, not a bound: on slender single
-/// curves (an angle, a T and an I with walls of 0.02, n = 4096) it gives
+/// How far above the [`round_off`] scale of a single curve a difference
+/// between rungs may still be round-off (sections with holes: 1, their
+/// scale is far above their measured round-off). The scale is not a
+/// bound: on slender single curves (an angle, a T and an I with walls of
+/// 0.02, n = 4096) the previous scale N ε √(P²/4πA) gave
 /// 5.2e-12 while J moves by 1.2e-11 – 1.9e-11 and Γ by up to 3e-11 when
 /// the same section is translated, rotated or its vertices renumbered
 /// (changes that leave the exact answers and the discretisation as they
@@ -452,7 +471,7 @@ const FLAT_VERTEX_J: f64 = 0.05;
 fn jt_estimates(
     values: &[(f64, Option<f64>)],
     floor: Option<f64>,
-    round_off: f64,
+    round_off: RoundOff,
 ) -> (f64, Option<f64>) {
     let j = diffs(values, |a, b| Some(rel(a.0, b.0)));
     let tau = diffs(values, |a, b| Some(rel(a.1?, b.1?)));
