@@ -150,6 +150,8 @@ impl StaticSolver<'_> {
         // whether they are under-relaxed (see `FRICTION_RELAXATION`)
         let mut friction_changes: Vec<f64> = Vec::new();
         let mut relaxing = false;
+        // the larger outer change (multipliers, friction limits) of every update
+        let mut outer_changes: Vec<f64> = Vec::new();
         // the states the last converged pass started from (before its
         // outer update), and the outer cut-backs taken so far
         let mut last_start: Option<States> = None;
@@ -263,7 +265,18 @@ impl StaticSolver<'_> {
                 // stands, with the multipliers and limits it was computed with.
                 break (start, history);
             }
-            if augmentations >= self.options.max_augmentations {
+            // Past the limit, the outer updates go on while they still
+            // converge: the larger change (multipliers, friction limits)
+            // halved over the last PROGRESS_WINDOW updates, up to
+            // OUTER_EXTENSION × the limit. High friction (μ ≳ 3) converges
+            // slowly but surely there; a stagnating loop still stops at the
+            // limit.
+            let change = max_change.max(max_friction_change);
+            let progressing = outer_changes.len() >= PROGRESS_WINDOW
+                && change <= 0.5 * outer_changes[outer_changes.len() - PROGRESS_WINDOW];
+            outer_changes.push(change);
+            let limit = self.options.max_augmentations;
+            if augmentations >= limit && !(progressing && augmentations < OUTER_EXTENSION * limit) {
                 return Err(super::tracker::failure(
                     format!(
                         "after {augmentations} outer updates the multipliers still change by {max_change:.3e} Pa and the friction limits by {max_friction_change:.3e} Pa (largest contact pressure {max_p:.3e} Pa)"
@@ -301,6 +314,14 @@ impl StaticSolver<'_> {
         ))
     }
 }
+
+/// Outer updates over which a loop past its limit must have halved its
+/// change to go on (see [`StaticSolver::increment`]).
+const PROGRESS_WINDOW: usize = 10;
+
+/// How far past [`SolverOptions::max_augmentations`] a loop that still
+/// converges may go, as a multiple of it.
+const OUTER_EXTENSION: usize = 10;
 
 /// Plain fixed-point updates of the frozen friction limits before the
 /// under-relaxation may start (μ ≤ 0.3 settles within these on the vessel).
