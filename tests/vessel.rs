@@ -381,24 +381,28 @@ fn mu_2_converges_on_paper_and_level_2() {
 /// μ = 10 (cohesion 0) on level 2 stopped after 30 outer updates of the
 /// frozen friction limits in the first increment, still converging: the
 /// relaxed updates of so high a friction shrink slowly. Past the limit the
-/// updates now go on while their change halves every 10 updates (up to
+/// updates now go on while their change halves every 20 updates (up to
 /// 10 × the limit). Measured: 81 outer updates in the worst increment, 937
 /// Newton iterations; the mean contact pressure continues the trend of
 /// lower friction (35 183 Pa at μ = 0.3, 35 263 Pa at μ = 2, 35 599 Pa at
-/// μ = 10). μ = 5 on level 2 and on the paper mesh still fails: there the
-/// change does not halve within 10 updates.
+/// μ = 10). μ = 5 on the paper mesh converges too (through 397 load
+/// increments); on level 2 it still fails, its change stops shrinking.
 #[test]
-fn mu_10_converges_on_level_2_past_the_outer_limit() {
-    let run = |friction: f64| {
+fn high_friction_converges_past_the_outer_limit() {
+    let run = |mesh: VesselMeshSpec, friction: f64| {
         let o = VesselOptions {
-            mesh: VesselMeshSpec::refined(2).unwrap(),
+            mesh,
             friction,
             quiet: true,
             ..Default::default()
         };
         summary(&analyse(&o).unwrap_or_else(|e| panic!("μ = {friction}: {e}")))
     };
-    let (v2, v10) = (run(2.0), run(10.0));
+    let level2 = || VesselMeshSpec::refined(2).unwrap();
+    let (v2, v10) = (run(level2(), 2.0), run(level2(), 10.0));
+    // μ = 5 on the paper mesh (it stopped after 30 updates too)
+    let v5 = run(VesselMeshSpec::paper(), 5.0);
+    assert!(f(&v5, "/final/contact_pressure_mean") > 0.0);
     let outer = f(&v10, "/newton/max_augmentations_per_increment");
     let limit = tecon_elastic::SolverOptions::default().max_augmentations as f64;
     assert!(

@@ -317,7 +317,7 @@ impl StaticSolver<'_> {
 
 /// Outer updates over which a loop past its limit must have halved its
 /// change to go on (see [`StaticSolver::increment`]).
-const PROGRESS_WINDOW: usize = 10;
+const PROGRESS_WINDOW: usize = 20;
 
 /// How far past [`SolverOptions::max_augmentations`] a loop that still
 /// converges may go, as a multiple of it.
