@@ -620,6 +620,17 @@ pub fn solve_to_tolerance(
             reason: format!("the tolerance must lie in (0, 1), got {tol:e}"),
         });
     }
+    // the ladder needs two rungs: n/2 and n, both at least the method's smallest n
+    if n_max < 2 * min_n(opts) {
+        return Err(SolveError::BadN {
+            n: n_max,
+            reason: format!(
+                "the largest n (--max-n) must be at least {} for this method and wavelet (two resolutions, n/2 and n, each at least {})",
+                2 * min_n(opts),
+                min_n(opts)
+            ),
+        });
+    }
     // the oversampled Shannon method stores its transformed kernel densely
     let n_max = if opts.method == Method::Shannon {
         n_max.min(crate::shannon::MAX_N)

@@ -195,6 +195,17 @@ pub enum SolveError {
     /// The result is not finite.
     #[error("the solution is not finite (ill-posed geometry or too few unknowns)")]
     NonFinite,
+    /// The section is so large or so small that J (∝ L⁴, about its polar
+    /// moment) leaves the normal range of double precision.
+    #[error(
+        "the section's polar moment I_p = {polar_moment:e} (length⁴) is outside [1e-300, 1e300]: \
+         J, of the same size, cannot be computed in double precision; give the lengths in units \
+         nearer the section's size (e.g. mm instead of m)"
+    )]
+    Scale {
+        /// the polar moment of the section about its centroid
+        polar_moment: f64,
+    },
     /// The dense system would not fit in memory (refused before allocating).
     #[error(
         "n = {n} per curve on {curves} boundary curve(s) is {unknowns} unknowns: the dense solve \

@@ -191,6 +191,11 @@ pub(crate) struct RawSolution {
     pub compression: Option<CompressionReport>,
 }
 
+/// The polar moments (length⁴) a solve accepts: J is of their size, and
+/// [1e-300, 1e300] keeps it and the products formed on the way (the load
+/// ∝ L², the J integral ∝ L⁴) within the normal range of double precision.
+const POLAR_MOMENT_RANGE: (f64, f64) = (1e-300, 1e300);
+
 /// Solves Saint-Venant torsion (Gθ = 1) of `section`.
 pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, SolveError> {
     if !(opts.grading >= 2.0 && opts.grading <= 12.0 && opts.grading.fract() == 0.0) {
@@ -202,6 +207,13 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
             n: opts.n,
             reason: "need 8 ≤ n ≤ 8192 (dense matrices)".into(),
         });
+    }
+    // J is about the polar moment (∝ L⁴): refuse a size whose J leaves the
+    // normal range of double precision (measured: a circle of radius 1e-78
+    // gave J in subnormals, 6e-12 off, 1e-100 gave 0, 1e77 overflowed)
+    let ip = section.polar_moment();
+    if !(POLAR_MOMENT_RANGE.0..=POLAR_MOMENT_RANGE.1).contains(&ip) {
+        return Err(SolveError::Scale { polar_moment: ip });
     }
     let curves = section.curves();
     // refuse what cannot fit before anything of size n² is allocated

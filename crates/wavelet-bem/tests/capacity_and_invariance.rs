@@ -274,3 +274,52 @@ fn quantities_out_of_double_range_are_flagged_not_converged() {
     let c = solve_to_tolerance(&sec, &Options::default(), 1e-8, 4096).unwrap();
     assert!(c.converged && c.warping.warping_constant.is_finite());
 }
+
+/// A section whose J (about its polar moment, ∝ L⁴) leaves the normal
+/// range of double precision is refused with an error that names the
+/// polar moment and says what to do; before, a circle of radius 1e-100
+/// gave J = 0 (flagged only for its shear centre) and one of 1e77 failed
+/// with "the solution is not finite (ill-posed geometry …)".
+#[test]
+fn sizes_whose_rigidity_leaves_double_precision_are_refused() {
+    for r in [1e-100, 1e-78, 1e77, 1e100] {
+        let sec = sections::circle(r).unwrap();
+        match solve_to_tolerance(&sec, &Options::default(), 1e-8, 4096) {
+            Err(e @ tecon_wavelet_bem::SolveError::Scale { .. }) => {
+                let msg = e.to_string();
+                assert!(
+                    msg.contains("polar moment") && msg.contains("units"),
+                    "{msg}"
+                );
+            }
+            other => panic!("r = {r:e}: expected a scale error, got {other:?}"),
+        }
+    }
+    // the edges of the range still solve: J = π r⁴/2 to round-off
+    for r in [1e-74, 1e74] {
+        let sec = sections::circle(r).unwrap();
+        let c = solve_to_tolerance(&sec, &Options::default(), 1e-8, 4096).unwrap();
+        let j = c.solution.torsional_rigidity / r.powi(4);
+        assert!(
+            (j / std::f64::consts::FRAC_PI_2 - 1.0).abs() < 1e-12,
+            "r = {r:e}: J/r⁴ = {j}"
+        );
+    }
+}
+
+/// The error control needs two resolutions, n/2 and n, each at least the
+/// method's smallest n: a smaller largest n is an error that names
+/// `--max-n` and its least value (it said "n = 32" for `--max-n 3`).
+#[test]
+fn a_largest_n_below_two_resolutions_is_refused_by_name() {
+    let sec = sections::circle(1.0).unwrap();
+    for max_n in [3, 64] {
+        let e = solve_to_tolerance(&sec, &Options::default(), 1e-8, max_n).unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            msg.contains("--max-n") && msg.contains("at least 128"),
+            "{msg}"
+        );
+    }
+    assert!(solve_to_tolerance(&sec, &Options::default(), 1e-8, 128).is_ok());
+}
