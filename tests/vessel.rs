@@ -183,11 +183,26 @@ fn published_case_on_the_paper_mesh() {
         "fig9_hoop_circumference.csv",
         "fig10_tangential_displacement.csv",
         "fig11_hoop_fe_vs_analytical.png",
+        "fig11_hoop_fe_vs_analytical.csv",
         "interface_final.csv",
+        "interface_contact_pressure.csv",
+        "interface_contact_pressure.svg",
+        "interface_slip.csv",
+        "interface_slip.png",
         "vessel.pvd",
         "vessel_000.vtu",
     ] {
         assert!(dir.path().join(name).exists(), "{name} missing");
+    }
+    // every figure (SVG) has its data (CSV) beside it
+    for e in std::fs::read_dir(dir.path()).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().to_string();
+        if let Some(stem) = name.strip_suffix(".svg") {
+            assert!(
+                dir.path().join(format!("{stem}.csv")).exists(),
+                "{name} has no {stem}.csv"
+            );
+        }
     }
     let back: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())

@@ -87,11 +87,20 @@ fn weld_corner_note(run: &VesselRun, r: &YieldReport) -> Option<String> {
         let d = (0.1 * g.layer_thickness).max(size(e).unwrap_or(0.0));
         corners.iter().any(|c| (p[0] - c[0]).hypot(p[1] - c[1]) < d)
     };
-    let at: Vec<&str> = r
+    // each peak near a corner, with the angle it lies at (on a coarse mesh
+    // the peak's element spans the corner, and its peak is a node or two
+    // away from it)
+    let at: Vec<String> = r
         .regions
         .iter()
         .filter(|y| near(y.peak_at, y.peak_element))
-        .map(|y| y.region.as_str())
+        .map(|y| {
+            format!(
+                "{} (θ = {:.2}°)",
+                y.region,
+                y.peak_at[1].atan2(y.peak_at[0]).to_degrees()
+            )
+        })
         .collect();
     (!at.is_empty()).then(|| {
         let (which, verb) = if at.len() > 1 {
@@ -100,7 +109,7 @@ fn weld_corner_note(run: &VesselRun, r: &YieldReport) -> Option<String> {
             ("peak of region", "lies")
         };
         format!(
-            "the {which} {} {verb} at a weld corner (θ = {:.2}°), where the elastic stress is singular: the peak grows as the mesh is refined (the real weld yields locally there, which an elastic analysis cannot resolve); the mean prestress and the stress at the weld plane are mesh-converged",
+            "the {which} {} {verb} at or within one element of a weld corner (the weld edge at θ = {:.2}°), where the elastic stress is singular: the peak grows as the mesh is refined (the real weld yields locally there, which an elastic analysis cannot resolve); the mean prestress and the stress at the weld plane are mesh-converged",
             at.join(" and "),
             theta.to_degrees()
         )
@@ -337,11 +346,32 @@ pub fn write_figures(run: &VesselRun, dir: &Path) -> CliResult<()> {
     )?;
     // (a bonded interface has no interface points: nothing to plot)
     if !rows.is_empty() {
+        // each figure beside its own data (the full table is interface_final.csv)
+        let consistent = an[2].1.pressure();
+        write(
+            &dir.join("interface_contact_pressure.csv"),
+            &figures::csv_text(
+                &[
+                    "theta_deg",
+                    "contact_pressure_Pa",
+                    "analytical_plane_strain_consistent_Pa",
+                ],
+                rows.iter()
+                    .map(|r| vec![r.theta_deg, r.pressure, consistent]),
+            ),
+        )?;
         figures::interface_pressure(
             &rows,
-            Some(("two cylinders, plane-strain consistent", an[2].1.pressure())),
+            Some(("two cylinders, plane-strain consistent", consistent)),
         )
         .write_svg_png(&dir.join("interface_contact_pressure"))?;
+        write(
+            &dir.join("interface_slip.csv"),
+            &figures::csv_text(
+                &["theta_deg", "slip_m", "jump_t_m"],
+                rows.iter().map(|r| vec![r.theta_deg, r.slip, r.jump_t]),
+            ),
+        )?;
         figures::interface_slip(&rows).write_svg_png(&dir.join("interface_slip"))?;
     }
     Ok(())

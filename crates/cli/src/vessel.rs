@@ -589,23 +589,30 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
     )?;
 
     // Fig. 8 and 11: circumferential mean hoop stress through the wall, FE and analytical.
+    // Fig. 8 plots the FE and the consistent model, fig. 11 all three
+    // models: both tables hold every column, each beside its figure.
     let profile = hoop_profile(run, &last.stress);
     let an = analytical(&run.options);
-    csv(
-        &dir.join("fig8_hoop_prestress_through_wall.csv"),
-        "wall_percent,is_core,r_m,hoop_mean_Pa,analytical_plane_strain_Pa,analytical_plane_stress_Pa,analytical_plane_strain_consistent_Pa",
-        profile.iter().map(|&(w, c, r, m)| {
-            vec![
-                w,
-                f64::from(u8::from(c)),
-                r,
-                m,
-                an[0].1.sigma_tt(r, c),
-                an[1].1.sigma_tt(r, c),
-                an[2].1.sigma_tt(r, c),
-            ]
-        }),
-    )?;
+    for stem in [
+        "fig8_hoop_prestress_through_wall",
+        "fig11_hoop_fe_vs_analytical",
+    ] {
+        csv(
+            &dir.join(format!("{stem}.csv")),
+            "wall_percent,is_core,r_m,hoop_mean_Pa,analytical_plane_strain_Pa,analytical_plane_stress_Pa,analytical_plane_strain_consistent_Pa",
+            profile.iter().map(|&(w, c, r, m)| {
+                vec![
+                    w,
+                    f64::from(u8::from(c)),
+                    r,
+                    m,
+                    an[0].1.sigma_tt(r, c),
+                    an[1].1.sigma_tt(r, c),
+                    an[2].1.sigma_tt(r, c),
+                ]
+            }),
+        )?;
+    }
 
     // Fig. 9: hoop stress around the circumference at the inner and outer surfaces.
     let c_in = ring_nodes(mesh, core, g.inner_radius);

@@ -278,9 +278,10 @@ fn the_yield_check_names_the_regions_above_yield_and_the_peak() {
         "{text}"
     );
     assert!(text.contains("warning: after cooling"), "{text}");
-    // the weld's peak sits at a weld corner, a stress singularity: said so
+    // the weld's peak sits at a weld corner, a stress singularity: said so,
+    // with the angle of each peak beside the corner's
     assert!(
-        text.contains("lie at a weld corner") || text.contains("lies at a weld corner"),
+        text.contains("within one element of a weld corner") && text.contains("weld (θ = "),
         "{text}"
     );
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
