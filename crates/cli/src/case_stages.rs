@@ -33,7 +33,7 @@ use std::path::Path;
 use serde::Deserialize;
 use tecon_mesh::{MultilayerGeometry, WeldedLayer};
 
-use crate::case::{RegionValue, err, toml_error};
+use crate::case::{RegionValue, err, from_toml};
 use crate::multilayer::{self, MultilayerOptions, interface_name};
 use crate::writers::CliResult;
 
@@ -77,7 +77,7 @@ pub fn parse(text: &str, file: &Path) -> CliResult<StagedCase> {
             ),
         ));
     }
-    let mut c: StagedCase = toml::from_str(text).map_err(|e| toml_error(text, file, &e))?;
+    let mut c: StagedCase = from_toml(text, file)?;
     c.source = file.to_path_buf();
     Ok(c)
 }

@@ -1,0 +1,102 @@
+//! The `tecon` binary on input a new user gets wrong: options that would be
+//! ignored, case-file values out of order or of the wrong type, and the
+//! explanation of a failure the user can act on. Every refusal exits 2 with
+//! one line on stderr naming the flags, file and key at fault.
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+fn cases_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases")
+}
+
+/// The example case `name` with its first `from` replaced by `to`.
+fn edited(name: &str, from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(cases_dir().join(name)).unwrap();
+    assert!(text.contains(from), "{from}");
+    text.replacen(from, to, 1)
+}
+
+/// Runs `tecon` with `args` and `--out` a fresh folder in `dir`.
+fn tecon(dir: &Path, args: &[&str]) -> Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args(args)
+        .arg("--out")
+        .arg(dir.join("results"))
+        .output()
+        .unwrap()
+}
+
+/// Asserts a refusal: exit 2, one line on stderr containing every `says`,
+/// nothing written.
+fn refused(dir: &Path, o: &Output, says: &[&str]) {
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    for s in says {
+        assert!(stderr.contains(s), "'{s}' not in: {stderr}");
+    }
+    assert!(!dir.join("results").exists(), "nothing written");
+}
+
+/// Runs the case `text` (written as `name` in `dir`).
+fn run_case(dir: &Path, name: &str, text: &str, extra: &[&str]) -> Output {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    let mut args = vec!["run", path.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    tecon(dir, &args)
+}
+
+#[test]
+fn case_file_type_errors_name_the_key_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // a string where a number belongs: the key, its table's index, the line
+    let text = edited(
+        "shrink_fit.toml",
+        "youngs_modulus = 207e9",
+        "youngs_modulus = \"207e9\"",
+    );
+    let o = run_case(d, "wrong_type.toml", &text, &[]);
+    refused(
+        d,
+        &o,
+        &[
+            "wrong_type.toml:33:",
+            "material[0].youngs_modulus: invalid type: string \"207e9\", expected f64",
+        ],
+    );
+    // a misspelt list-of-tables header: its [interface.joint] makes a table
+    // of `interface`, and the error names it and how to write it
+    let text = edited("shrink_fit.toml", "[[interface]]", "[[interfacee]]");
+    let o = run_case(d, "bad_table.toml", &text, &[]);
+    refused(
+        d,
+        &o,
+        &[
+            "bad_table.toml:50:",
+            "interface: invalid type: map, expected a sequence",
+            "[[interface]]",
+        ],
+    );
+    // a misspelt table on its own is an unknown key, named
+    let text = edited("shrink_fit.toml", "[output]", "[outputt]");
+    let o = run_case(d, "unknown.toml", &text, &[]);
+    refused(
+        d,
+        &o,
+        &["unknown.toml:", "outputt: unknown field `outputt`"],
+    );
+    // the staged (multilayer) case files go through the same loader
+    let text = edited("multilayer.toml", "seam = 120.0", "seam = \"120\"");
+    let o = run_case(d, "staged.toml", &text, &[]);
+    refused(
+        d,
+        &o,
+        &[
+            "staged.toml:",
+            "multilayer.layer[1].seam: invalid type: string",
+        ],
+    );
+}
