@@ -353,6 +353,9 @@ pub fn options(case: &StagedCase) -> CliResult<MultilayerOptions> {
                 weld_t = t.value;
             }
         }
+        if let Some(t) = &s.times {
+            crate::cmdline::check_increasing(&format!("{id}: times"), t).map_err(|e| err(f, e))?;
+        }
         let times = s.times.clone().unwrap_or_else(|| o.times.clone());
         active.push(regions[2 * k - 1].as_str());
         active.push(regions[2 * k].as_str());

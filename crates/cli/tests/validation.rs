@@ -100,3 +100,59 @@ fn case_file_type_errors_name_the_key_path() {
         ],
     );
 }
+
+#[test]
+fn case_file_times_out_of_order_or_repeated_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let shipped = "times = [1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0]";
+    for (times, says) in [
+        (
+            "times = [10.0, 1.0]",
+            "output.times: 1 s (value 2) does not come after 10 s; give the output times in increasing order",
+        ),
+        (
+            "times = [1.0, 1.0]",
+            "output.times: 1 s (value 2) does not come after 1 s",
+        ),
+    ] {
+        let text = edited("vessel.toml", shipped, times);
+        let o = run_case(d, "times.toml", &text, &["--quiet"]);
+        refused(d, &o, &["times.toml: ", says]);
+    }
+    // a staged case's [[stage]] times too
+    let text = edited(
+        "multilayer.toml",
+        "times = [60.0, 72000.0]",
+        "times = [72000.0, 60.0]",
+    );
+    let o = run_case(d, "staged_times.toml", &text, &["--quiet"]);
+    refused(
+        d,
+        &o,
+        &[
+            "staged_times.toml: [[stage]] 1",
+            "times: 60 s (value 2) does not come after 72000 s",
+        ],
+    );
+    // the shipped cases give their times in order (they run end to end in
+    // the workspace's tests/case_files.rs)
+    for entry in std::fs::read_dir(cases_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            for line in text.lines().filter(|l| l.starts_with("times = [")) {
+                let inner = line["times = [".len()..].split(']').next().unwrap();
+                let v: Vec<f64> = inner
+                    .split(',')
+                    .map(|x| x.trim().parse().unwrap())
+                    .collect();
+                assert!(
+                    v.windows(2).all(|w| w[0] < w[1]),
+                    "{}: {line}",
+                    path.display()
+                );
+            }
+        }
+    }
+}
