@@ -645,7 +645,8 @@ pub struct RunArgs {
     /// Output folder (default `tecon-out/run/<case file stem>`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Print nothing but errors.
+    /// Print nothing but warnings and errors: no progress bar, no report on
+    /// the terminal (the report is in the output folder's report.txt).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -738,9 +739,22 @@ pub fn run(args: RunArgs) -> CliResult<()> {
     let text = report(&res);
     let txt = out.join(crate::report_html::REPORT_TEXT);
     std::fs::write(&txt, &text).map_err(|e| format!("{}: {e}", txt.display()))?;
-    if !args.quiet {
+    if args.quiet {
+        // nothing but the warnings (stderr), as `tecon vessel --quiet`
+        for w in warnings(&res.summary) {
+            eprintln!("warning: {w}");
+        }
+    } else {
         print!("{text}");
         println!("results in {}", out.display());
     }
     Ok(())
+}
+
+/// The warnings of a case's summary (a yield stress exceeded).
+fn warnings(summary: &Value) -> Vec<&str> {
+    summary["warnings"]
+        .as_array()
+        .map(|w| w.iter().filter_map(Value::as_str).collect())
+        .unwrap_or_default()
 }

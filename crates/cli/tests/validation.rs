@@ -156,3 +156,43 @@ fn case_file_times_out_of_order_or_repeated_are_refused() {
         }
     }
 }
+
+#[test]
+fn run_quiet_prints_the_warnings() {
+    // `tecon run --quiet`, as `tecon vessel --quiet`: nothing but warnings
+    // and errors (a yield stress exceeded is a warning)
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = edited(
+        "vessel.toml",
+        "region = \"weld\"\n",
+        "region = \"weld\"\nyield = 1e6\n",
+    )
+    .replacen(
+        "times = [1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0]",
+        "times = [60.0, 72000.0]",
+        1,
+    );
+    let o = run_case(d, "yielding.toml", &text, &["--quiet"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{stderr}");
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning: ") && l.contains("above the yield stress"))
+        .collect();
+    assert_eq!(warnings.len(), 2, "one per output time: {stderr}");
+    assert!(
+        warnings[1].contains("t = 72000 s") && warnings[1].contains("region weld"),
+        "{stderr}"
+    );
+    // the same warnings as in the summary
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("results/summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["warnings"].as_array().map(Vec::len), Some(2));
+}
