@@ -187,6 +187,7 @@ fn run(cli: Cli) -> Result<(), BoxErr> {
             })
         }
         Command::Mesh(c) => {
+            mesh_cmd::check(&c.args)?;
             let out = c.args.out.clone();
             in_folder(&out, c.folder.force, None, || {
                 mesh_cmd::run(c.args).map(|_| Vec::new())

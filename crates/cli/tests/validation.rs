@@ -196,3 +196,76 @@ fn run_quiet_prints_the_warnings() {
             .unwrap();
     assert_eq!(summary["warnings"].as_array().map(Vec::len), Some(2));
 }
+
+fn msh_file() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../mesh/tests/data/two_blocks.msh")
+}
+
+#[test]
+fn mesh_refuses_generator_options_with_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let msh = msh_file();
+    let msh = msh.to_str().unwrap();
+    let o = tecon(d, &["mesh", "--msh", msh, "--preset", "2"]);
+    refused(
+        d,
+        &o,
+        &[
+            "--preset 2 cannot be used with --msh",
+            "two_blocks.msh",
+            "read from the file",
+        ],
+    );
+    let o = tecon(d, &["mesh", "--msh", msh, "--fused-weld"]);
+    refused(
+        d,
+        &o,
+        &["--fused-weld cannot be used with --msh", "two_blocks.msh"],
+    );
+    // the file alone, and the generator's options alone, are fine
+    for args in [
+        &["mesh", "--msh", msh][..],
+        &["mesh", "--preset", "2", "--fused-weld"],
+    ] {
+        let o = tecon(d, args);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        std::fs::remove_dir_all(d.join("results")).unwrap();
+    }
+}
+
+#[test]
+fn mesh_help_lists_every_preset_form() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args(["mesh", "--help"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0));
+    let help = String::from_utf8_lossy(&o.stdout);
+    let preset = help
+        .split("--preset")
+        .nth(1)
+        .and_then(|s| s.split("--fused-weld").next())
+        .unwrap_or_default();
+    for form in ["`paper`", "0–9", "`gL`", "`xF`", "`tN`", "default `paper`"] {
+        assert!(preset.contains(form), "{form} not in: {preset}");
+    }
+    // and every form the help lists is accepted
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for p in ["paper", "1", "g0", "x2", "t500"] {
+        let o = tecon(d, &["mesh", "--preset", p]);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "--preset {p}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        std::fs::remove_dir_all(d.join("results")).unwrap();
+    }
+}
