@@ -774,6 +774,46 @@ pub struct VesselArgs {
     pub verbose: bool,
 }
 
+/// Refuses the options this run would ignore, naming the option that
+/// they need: `--seams` and `--layer-thickness` (given on the command line:
+/// `layer_thickness_given`, as it has a default) describe the layers of
+/// `--layers N`; `--sync-interval` and `--sync-tolerance` the blocks of
+/// `--coupling two-way`. (`--no-condensation` is honoured with `--layers`.)
+pub fn check_combinations(args: &VesselArgs, layer_thickness_given: bool) -> Result<(), String> {
+    if args.layers.is_none() {
+        if let Some(s) = &args.seams {
+            let list: Vec<String> = s.iter().map(f64::to_string).collect();
+            return Err(format!(
+                "--seams {} needs --layers: the seam angles place the welds of a multilayer vessel's layers, one per layer (give --layers {}, or drop --seams)",
+                list.join(","),
+                s.len()
+            ));
+        }
+        if layer_thickness_given {
+            return Err(format!(
+                "--layer-thickness {} needs --layers: it is the thickness of every layer of a multilayer vessel; the monolayer vessel keeps the published layer (give --layers N, or drop --layer-thickness)",
+                args.layer_thickness
+            ));
+        }
+    }
+    if args.coupling != "two-way" {
+        let given = [
+            ("--sync-interval", args.sync_interval.map(|v| v.to_string())),
+            (
+                "--sync-tolerance",
+                args.sync_tolerance.map(|v| v.to_string()),
+            ),
+        ];
+        if let Some((flag, Some(v))) = given.iter().find(|(_, v)| v.is_some()) {
+            return Err(format!(
+                "{flag} {v} needs --coupling two-way: it sets the blocks of thermal steps between the contact solves of the two-way coupling (this run is --coupling {}; add --coupling two-way, or drop {flag})",
+                args.coupling
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Options from the command line.
 pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
     let spec =

@@ -197,6 +197,128 @@ fn run_quiet_prints_the_warnings() {
     assert_eq!(summary["warnings"].as_array().map(Vec::len), Some(2));
 }
 
+#[test]
+fn vessel_options_that_would_be_ignored_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, says) in [
+        (
+            &["--seams", "0,120"][..],
+            &["--seams 0,120 needs --layers", "--layers 2"][..],
+        ),
+        (
+            &["--layer-thickness", "0.01"],
+            &["--layer-thickness 0.01 needs --layers"],
+        ),
+        // the default value is refused too when typed
+        (
+            &["--layer-thickness", "6.4e-3"],
+            &["--layer-thickness 0.0064 needs --layers"],
+        ),
+        (
+            &["--sync-interval", "5"],
+            &[
+                "--sync-interval 5 needs --coupling two-way",
+                "this run is --coupling one-way",
+            ],
+        ),
+        (
+            &["--sync-tolerance", "0.5"],
+            &["--sync-tolerance 0.5 needs --coupling two-way"],
+        ),
+        (
+            &["--coupling", "one-way", "--sync-tolerance", "0.5"],
+            &["--sync-tolerance 0.5 needs --coupling two-way"],
+        ),
+        (
+            &["--layers", "2", "--sync-interval", "5"],
+            &["--sync-interval 5 needs --coupling two-way"],
+        ),
+    ] {
+        let mut all = vec!["vessel", "--mesh", "paper", "--times", "60,72000"];
+        all.extend_from_slice(args);
+        let o = tecon(d, &all);
+        refused(d, &o, says);
+    }
+}
+
+#[test]
+fn vessel_layers_take_their_options_and_the_default_thickness() {
+    // --layers N without --layer-thickness keeps the default thickness; with
+    // --layer-thickness, --seams and --no-condensation (honoured: see
+    // no_condensation_reaches_the_multilayer_solver) the run goes through
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (k, args) in [
+        &["--layers", "1"][..],
+        &[
+            "--layers",
+            "1",
+            "--layer-thickness",
+            "6.4e-3",
+            "--seams",
+            "0",
+            "--no-condensation",
+        ],
+    ]
+    .iter()
+    .enumerate()
+    {
+        let out = d.join(format!("layers{k}"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+            .args(["vessel", "--times", "60,72000", "--quiet"])
+            .args(*args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {stderr}");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(
+            summary["geometry"]["layers"][0]["thickness"].as_f64(),
+            Some(6.4e-3),
+            "{args:?}"
+        );
+    }
+}
+
+#[test]
+fn no_condensation_reaches_the_multilayer_solver() {
+    // `--no-condensation` with `--layers` sets MultilayerOptions::condensation
+    // (multilayer_out::run); the stages then make full Newton passes
+    use tecon_cli::multilayer::{MultilayerOptions, analyse};
+    let mut o = MultilayerOptions::new(1, 6.4e-3, None).unwrap();
+    o.quiet = true;
+    o.times = vec![60.0, 72000.0];
+    // rows enough that condensing onto the interface dofs is the cheaper
+    // pass (m² ≤ nnz of the factor): the solver then condenses unless told not to
+    o.spec.core_rows = 40;
+    o.spec.layer_rows = 40;
+    o.condensation = false;
+    let full = analyse(&o).unwrap();
+    assert!(full.stages.iter().all(|s| s.condensed_dofs.is_none()));
+    o.condensation = true;
+    let condensed = analyse(&o).unwrap();
+    assert!(
+        condensed.stages.iter().all(|s| s.condensed_dofs.is_some()),
+        "{:?}",
+        condensed
+            .stages
+            .iter()
+            .map(|s| s.condensed_dofs)
+            .collect::<Vec<_>>()
+    );
+    // the same answer either way
+    for (a, b) in full.stages.iter().zip(&condensed.stages) {
+        for (x, y) in a.ring_means.iter().zip(&b.ring_means) {
+            assert!((x - y).abs() <= 1e-6 * x.abs().max(1.0), "{x} {y}");
+        }
+    }
+}
+
 fn msh_file() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../mesh/tests/data/two_blocks.msh")
 }
