@@ -391,3 +391,62 @@ fn mesh_help_lists_every_preset_form() {
         std::fs::remove_dir_all(d.join("results")).unwrap();
     }
 }
+
+#[test]
+fn a_vacuum_inside_explains_the_free_layer() {
+    // a negative --pressure pulls the core away from the layer: the layer,
+    // held only by the interface, is free; the error says so and what to do
+    // (the solver's own advice, a support, cannot be followed here)
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (p, when) in [("-1e6", "the pressure alone"), ("-1e9", "t = 72000 s")] {
+        let o = tecon(
+            d,
+            &[
+                "vessel",
+                "--mesh",
+                "paper",
+                "--times",
+                "60,72000",
+                "--quiet",
+                "--pressure",
+                p,
+            ],
+        );
+        refused(
+            d,
+            &o,
+            &[
+                when,
+                "is not constrained",
+                &format!("the negative --pressure {p} Pa"),
+                "pulls the core away from the layer",
+                "loses all contact and is free",
+                "positive (internal) --pressure",
+                "--interface bonded",
+            ],
+        );
+    }
+    // the advice holds: bonded, the same vacuum runs
+    let o = tecon(
+        d,
+        &[
+            "vessel",
+            "--mesh",
+            "paper",
+            "--times",
+            "60,72000",
+            "--quiet",
+            "--pressure",
+            "-1e6",
+            "--interface",
+            "bonded",
+        ],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
