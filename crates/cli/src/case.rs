@@ -395,26 +395,51 @@ fn display(file: &Path) -> String {
     }
 }
 
-/// A TOML error of `text` as one line naming the file, line and column.
-pub(crate) fn toml_error(text: &str, file: &Path, e: &toml::de::Error) -> String {
+/// A TOML error of `text` as one line naming the file, line and column,
+/// and the key path at fault when it is known (`material[0].youngs_modulus`).
+pub(crate) fn toml_error(text: &str, file: &Path, key: &str, e: &toml::de::Error) -> String {
     let at = e.span().map(|s| {
         let before = text.get(..s.start).unwrap_or(text);
         let line = before.matches('\n').count() + 1;
         let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
         format!("{line}:{col}: ")
     });
-    let msg = e.message().replace('\n', " ");
+    let mut msg = e.message().replace('\n', " ");
+    let key = if key.is_empty() || key == "." {
+        String::new()
+    } else {
+        if msg.contains("invalid type: map, expected a sequence") {
+            // `[x]` or `[x.y]` where `x` is a list of tables (`[[x]]`)
+            msg = format!(
+                "{}; {key} is a list of tables: begin each entry with [[{key}]]",
+                msg.trim()
+            );
+        }
+        format!("{key}: ")
+    };
     format!(
-        "{}:{}{}",
+        "{}:{}{key}{}",
         display(file),
         at.map_or(" ".into(), |a| a),
         msg.trim()
     )
 }
 
+/// Deserializes a case file's TOML `text` (`file` names it in errors): a
+/// syntax error names the line and column, a type error or an unknown key
+/// also the key path at fault (`material[0].youngs_modulus`, `interfacee`).
+/// Shared by the case files of `tecon run`, general and staged.
+pub(crate) fn from_toml<'de, T: Deserialize<'de>>(text: &'de str, file: &Path) -> CliResult<T> {
+    let de = toml::Deserializer::parse(text).map_err(|e| toml_error(text, file, "", &e))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let key = e.path().to_string();
+        toml_error(text, file, &key, e.inner()).into()
+    })
+}
+
 /// Parses a case from TOML text; `file` names it in errors.
 pub fn parse(text: &str, file: &Path) -> CliResult<Case> {
-    let mut case: Case = toml::from_str(text).map_err(|e| toml_error(text, file, &e))?;
+    let mut case: Case = from_toml(text, file)?;
     case.source = file.to_path_buf();
     Ok(case)
 }
@@ -620,7 +645,8 @@ pub struct RunArgs {
     /// Output folder (default `tecon-out/run/<case file stem>`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Print nothing but errors.
+    /// Print nothing but warnings and errors: no progress bar, no report on
+    /// the terminal (the report is in the output folder's report.txt).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -713,9 +739,22 @@ pub fn run(args: RunArgs) -> CliResult<()> {
     let text = report(&res);
     let txt = out.join(crate::report_html::REPORT_TEXT);
     std::fs::write(&txt, &text).map_err(|e| format!("{}: {e}", txt.display()))?;
-    if !args.quiet {
+    if args.quiet {
+        // nothing but the warnings (stderr), as `tecon vessel --quiet`
+        for w in warnings(&res.summary) {
+            eprintln!("warning: {w}");
+        }
+    } else {
         print!("{text}");
         println!("results in {}", out.display());
     }
     Ok(())
+}
+
+/// The warnings of a case's summary (a yield stress exceeded).
+fn warnings(summary: &Value) -> Vec<&str> {
+    summary["warnings"]
+        .as_array()
+        .map(|w| w.iter().filter_map(Value::as_str).collect())
+        .unwrap_or_default()
 }

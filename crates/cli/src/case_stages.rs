@@ -33,7 +33,7 @@ use std::path::Path;
 use serde::Deserialize;
 use tecon_mesh::{MultilayerGeometry, WeldedLayer};
 
-use crate::case::{RegionValue, err, toml_error};
+use crate::case::{RegionValue, err, from_toml};
 use crate::multilayer::{self, MultilayerOptions, interface_name};
 use crate::writers::CliResult;
 
@@ -77,7 +77,7 @@ pub fn parse(text: &str, file: &Path) -> CliResult<StagedCase> {
             ),
         ));
     }
-    let mut c: StagedCase = toml::from_str(text).map_err(|e| toml_error(text, file, &e))?;
+    let mut c: StagedCase = from_toml(text, file)?;
     c.source = file.to_path_buf();
     Ok(c)
 }
@@ -352,6 +352,9 @@ pub fn options(case: &StagedCase) -> CliResult<MultilayerOptions> {
             if t.region == weld {
                 weld_t = t.value;
             }
+        }
+        if let Some(t) = &s.times {
+            crate::cmdline::check_increasing(&format!("{id}: times"), t).map_err(|e| err(f, e))?;
         }
         let times = s.times.clone().unwrap_or_else(|| o.times.clone());
         active.push(regions[2 * k - 1].as_str());

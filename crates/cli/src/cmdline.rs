@@ -14,11 +14,22 @@ pub fn check_times(times: &[f64]) -> Result<(), String> {
                 k + 1
             ));
         }
-        if k > 0 && t <= times[k - 1] {
+    }
+    check_increasing("--times", times)
+}
+
+/// Checks that output times are strictly increasing (a reordered or
+/// repeated time is an error, not silently sorted or dropped); `key` (the
+/// flag or case-file key) starts the error, which names the first value
+/// out of order.
+pub fn check_increasing(key: &str, times: &[f64]) -> Result<(), String> {
+    for (k, w) in times.windows(2).enumerate() {
+        if w[1] <= w[0] {
             return Err(format!(
-                "--times: {t} s (value {}) does not come after {} s; give the output times in increasing order",
-                k + 1,
-                times[k - 1]
+                "{key}: {} s (value {}) does not come after {} s; give the output times in increasing order",
+                w[1],
+                k + 2,
+                w[0]
             ));
         }
     }

@@ -14,7 +14,7 @@
 
 use std::path::Path;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use tecon_cli::outdir::OutDir;
 use tecon_cli::report_html::{self, ReportInputs};
 use tecon_cli::{case, cmdline, front, mesh_cmd, torsion, vessel};
@@ -165,10 +165,32 @@ fn inputs_of(args: &impl std::fmt::Debug) -> Vec<(String, String)> {
     rows
 }
 
-fn run(cli: Cli) -> Result<(), BoxErr> {
+/// Which options with a default were given on the command line.
+#[derive(Debug, Clone, Copy, Default)]
+struct Given {
+    /// `tecon vessel --layer-thickness`.
+    layer_thickness: bool,
+}
+
+impl Given {
+    fn of(matches: &clap::ArgMatches) -> Self {
+        let on_command_line = |sub: &str, id: &str| {
+            matches
+                .subcommand_matches(sub)
+                .and_then(|m| m.value_source(id))
+                == Some(clap::parser::ValueSource::CommandLine)
+        };
+        Given {
+            layer_thickness: on_command_line("vessel", "layer_thickness"),
+        }
+    }
+}
+
+fn run(cli: Cli, given: Given) -> Result<(), BoxErr> {
     match cli.command {
         Command::Vessel(c) => {
             cmdline::check_times(&c.args.times)?;
+            vessel::check_combinations(&c.args, given.layer_thickness)?;
             if let Some(y) = c.yield_stress {
                 cmdline::check_yield(y)?;
             }
@@ -187,6 +209,7 @@ fn run(cli: Cli) -> Result<(), BoxErr> {
             })
         }
         Command::Mesh(c) => {
+            mesh_cmd::check(&c.args)?;
             let out = c.args.out.clone();
             in_folder(&out, c.folder.force, None, || {
                 mesh_cmd::run(c.args).map(|_| Vec::new())
@@ -230,8 +253,12 @@ fn run(cli: Cli) -> Result<(), BoxErr> {
 
 fn main() {
     cmdline::quiet_on_broken_pipe();
-    let cli = Cli::parse();
-    if let Err(e) = run(cli) {
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| {
+        // as Cli::parse
+        e.format(&mut Cli::command()).exit()
+    });
+    if let Err(e) = run(cli, Given::of(&matches)) {
         eprintln!("error: {e}");
         std::process::exit(2);
     }

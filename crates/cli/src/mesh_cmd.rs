@@ -9,11 +9,15 @@ use tecon_mesh::{Mesh, VesselGeometry, VesselMeshSpec, read_msh, vessel_mesh};
 /// Arguments of `tecon mesh`.
 #[derive(clap::Args, Debug)]
 pub struct MeshArgs {
-    /// Vessel mesh density: `paper` (the published 108-node mesh) or a
-    /// refinement level 0–9 (136·4^level triangles).
-    #[arg(long, default_value = "paper")]
-    pub preset: String,
-    /// Fuse the weld to the core (no interface under the weld).
+    /// Vessel mesh density (default `paper`): `paper` (the published
+    /// 108-node mesh: 136 triangles, 17 interface elements), a uniform
+    /// refinement level 0–9 (136·4^level triangles), `gL` (graded toward
+    /// the weld corners, made for 6-node triangles: 2 784·4^L triangles,
+    /// L = 0–5, order 2), `xF` (every paper interval in F parts, 136·F²
+    /// triangles) or `tN` (about N triangles, e.g. `t1e5`). Not with --msh.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Fuse the weld to the core (no interface under the weld). Not with --msh.
     #[arg(long)]
     pub fused_weld: bool,
     /// Read this Gmsh MSH 4.1 file instead of generating the vessel.
@@ -22,6 +26,28 @@ pub struct MeshArgs {
     /// Output folder.
     #[arg(long, default_value = "tecon-out/mesh")]
     pub out: PathBuf,
+}
+
+/// The vessel mesh `tecon mesh` generates without `--preset`.
+pub const DEFAULT_PRESET: &str = "paper";
+
+/// Refuses the options that would be ignored: `--preset` and
+/// `--fused-weld` describe the generated vessel, not a mesh read with `--msh`.
+pub fn check(args: &MeshArgs) -> Result<(), String> {
+    if let Some(path) = &args.msh {
+        let file = path.display();
+        if let Some(p) = &args.preset {
+            return Err(format!(
+                "--preset {p} cannot be used with --msh {file}: the mesh is read from the file, not generated (drop --preset, or --msh to generate the vessel)"
+            ));
+        }
+        if args.fused_weld {
+            return Err(format!(
+                "--fused-weld cannot be used with --msh {file}: the file's mesh has its own regions and interfaces (drop --fused-weld, or --msh to generate the vessel)"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Parses a `--mesh`/`--preset` value into a vessel mesh spec.
@@ -54,15 +80,17 @@ pub fn parse_preset(preset: &str) -> Result<VesselMeshSpec, String> {
 
 /// Runs `tecon mesh`.
 pub fn run(args: MeshArgs) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+    check(&args)?;
     let mesh = match &args.msh {
         Some(path) => read_msh(path)?,
         None => {
+            let preset = args.preset.as_deref().unwrap_or(DEFAULT_PRESET);
             let spec = VesselMeshSpec {
                 fused_weld: args.fused_weld,
-                ..parse_preset(&args.preset)?
+                ..parse_preset(preset)?
             };
             crate::memory::check_generation(&spec)
-                .map_err(|e| format!("--preset '{}': {e}", args.preset))?;
+                .map_err(|e| format!("--preset '{preset}': {e}"))?;
             vessel_mesh(&VesselGeometry::default(), &spec)?
         }
     };

@@ -195,6 +195,9 @@ pub struct StageResult {
     /// Wall-clock seconds of the stage's heat conduction and of its
     /// contact solves (`timing.json`).
     pub seconds: (f64, f64),
+    /// The interface dofs the stage's Newton passes were condensed onto
+    /// (None: full passes, as with [`MultilayerOptions::condensation`] off).
+    pub condensed_dofs: Option<usize>,
 }
 
 /// A finished multilayer run.
@@ -483,6 +486,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             thermal_steps: summary.steps,
             heat_balance: summary.max_balance_residual,
             seconds: (heat_seconds, contact_clock.elapsed().as_secs_f64()),
+            condensed_dofs: solver.condensed_dofs(),
         });
     }
     if let Some(p) = o.pressure {
@@ -532,6 +536,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             thermal_steps: 0,
             heat_balance: 0.0,
             seconds: (0.0, contact_clock.elapsed().as_secs_f64()),
+            condensed_dofs: solver.condensed_dofs(),
         });
     }
     Ok(MultilayerRun {

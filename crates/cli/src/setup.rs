@@ -774,14 +774,13 @@ pub fn prepare<'m>(
     let names = mesh.region_names().to_vec();
 
     // Output options.
-    let mut times = case.output.times.clone();
+    let times = case.output.times.clone();
     for t in &times {
         if !t.is_finite() || *t < 0.0 {
             return Err(err(f, format!("output.times: {t} is not a time ≥ 0")));
         }
     }
-    times.sort_by(f64::total_cmp);
-    times.dedup();
+    crate::cmdline::check_increasing("output.times", &times).map_err(|e| err(f, e))?;
     let probes: Vec<([f64; 2], usize)> = case
         .output
         .probes

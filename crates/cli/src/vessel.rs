@@ -97,9 +97,16 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     let tie = setup::tie(&case, &mesh)?;
     let (outcome, pressure_only) = {
         let p = setup::prepare(&case, &mesh, tie.as_ref())?;
-        let outcome = driver::run(&p.setup)?;
+        let outcome = driver::run(&p.setup).map_err(|e| free_layer(e, o.pressure))?;
         let alone = match o.pressure {
-            Some(_) => Some(driver::solve_mechanical(&p.setup, LoadFactors::FULL)?),
+            Some(_) => Some(
+                driver::solve_mechanical(&p.setup, LoadFactors::FULL).map_err(|e| {
+                    format!(
+                        "the pressure alone (the comparison without the weld prestress): {}",
+                        free_layer(e, o.pressure)
+                    )
+                })?,
+            ),
             None => None,
         };
         (outcome, alone)
@@ -129,6 +136,28 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         interfaces: outcome.interfaces,
         coupling: outcome.coupling,
     })
+}
+
+/// A solve that failed because a body is free, explained when `--pressure`
+/// is negative: a vacuum inside pulls the core away from the layer, the
+/// layer (held only by the interface) loses all contact and nothing holds
+/// it, and the solver's advice (add a support …) cannot be followed on the
+/// built-in vessel. Other errors are passed on as they are.
+fn free_layer(
+    e: driver::DriverError,
+    pressure: Option<f64>,
+) -> Box<dyn std::error::Error + Send + Sync> {
+    if let Some(p) = pressure.filter(|p| *p < 0.0)
+        && let driver::DriverError::ContactSolve { source, .. } = &e
+        && let tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. }) =
+            source.as_ref()
+    {
+        return format!(
+            "{e}. On the built-in vessel that cannot be done; the cause is the negative --pressure {p:e} Pa (a vacuum inside, a net external pressure): it pulls the core away from the layer, so the layer, held only by the core/layer interface, loses all contact and is free. Give a positive (internal) --pressure, or tie the layer to the core with --interface bonded"
+        )
+        .into();
+    }
+    e.into()
 }
 
 /// Polar coordinates (r, θ) of a point.
@@ -779,6 +808,46 @@ pub struct VesselArgs {
     /// Print the Newton iteration history of every increment.
     #[arg(long)]
     pub verbose: bool,
+}
+
+/// Refuses the options this run would ignore, naming the option that
+/// they need: `--seams` and `--layer-thickness` (given on the command line:
+/// `layer_thickness_given`, as it has a default) describe the layers of
+/// `--layers N`; `--sync-interval` and `--sync-tolerance` the blocks of
+/// `--coupling two-way`. (`--no-condensation` is honoured with `--layers`.)
+pub fn check_combinations(args: &VesselArgs, layer_thickness_given: bool) -> Result<(), String> {
+    if args.layers.is_none() {
+        if let Some(s) = &args.seams {
+            let list: Vec<String> = s.iter().map(f64::to_string).collect();
+            return Err(format!(
+                "--seams {} needs --layers: the seam angles place the welds of a multilayer vessel's layers, one per layer (give --layers {}, or drop --seams)",
+                list.join(","),
+                s.len()
+            ));
+        }
+        if layer_thickness_given {
+            return Err(format!(
+                "--layer-thickness {} needs --layers: it is the thickness of every layer of a multilayer vessel; the monolayer vessel keeps the published layer (give --layers N, or drop --layer-thickness)",
+                args.layer_thickness
+            ));
+        }
+    }
+    if args.coupling != "two-way" {
+        let given = [
+            ("--sync-interval", args.sync_interval.map(|v| v.to_string())),
+            (
+                "--sync-tolerance",
+                args.sync_tolerance.map(|v| v.to_string()),
+            ),
+        ];
+        if let Some((flag, Some(v))) = given.iter().find(|(_, v)| v.is_some()) {
+            return Err(format!(
+                "{flag} {v} needs --coupling two-way: it sets the blocks of thermal steps between the contact solves of the two-way coupling (this run is --coupling {}; add --coupling two-way, or drop {flag})",
+                args.coupling
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Options from the command line.
