@@ -155,6 +155,46 @@ fn hole_errors_are_named() {
     assert!((j / exact - 1.0).abs() < 1e-13, "Shannon tube J {j}");
 }
 
+/// A hole that crosses the outer boundary is reported at a point where the
+/// two boundaries actually meet (it said (1, 0), a corner of the square
+/// that is not on the hole, for crossings at (1, 0.5) and (1, 0.7)).
+#[test]
+fn a_crossing_hole_is_reported_where_the_boundaries_meet() {
+    let square = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]).unwrap();
+    let hole = sections::polygon(&[[0.5, 0.5], [1.5, 0.5], [1.5, 0.7], [0.5, 0.7]]).unwrap();
+    let e = geometry::Section::with_holes(square.clone(), vec![hole]).unwrap_err();
+    let GeometryError::HoleTouchesBoundary { near, .. } = e else {
+        panic!("{e:?}");
+    };
+    assert!(
+        near[0] == 1.0 && (near[1] == 0.5 || near[1] == 0.7),
+        "{near:?}"
+    );
+    // a hole touching the boundary without crossing it: the point of contact
+    let touching = sections::polygon(&[[0.25, 0.5], [1.0, 0.3], [0.75, 0.75]]).unwrap();
+    let e = geometry::Section::with_holes(square, vec![touching]).unwrap_err();
+    let GeometryError::HoleTouchesBoundary { near, .. } = e else {
+        panic!("{e:?}");
+    };
+    assert_eq!(near, [1.0, 0.3]);
+    // a circular hole through the side x = 1 of a 2 × 2 square centred at
+    // the origin: on the side, near y = ±√(0.5² − 0.4²) = ±0.3 (the circle
+    // is checked as an inscribed polygon of 48 chords)
+    let outer = sections::rectangle(2.0, 2.0).unwrap();
+    let disc = sections::circle(0.5)
+        .unwrap()
+        .translated([0.6, 0.0])
+        .unwrap();
+    let e = geometry::Section::with_holes(outer, vec![disc]).unwrap_err();
+    let GeometryError::HoleTouchesBoundary { near, .. } = e else {
+        panic!("{e:?}");
+    };
+    assert!(
+        (near[0] - 1.0).abs() < 1e-15 && (near[1].abs() - 0.3).abs() < 1e-2,
+        "{near:?}"
+    );
+}
+
 /// Every controlled result is either within (a modest multiple of) its
 /// reported error of the exact value, or flagged.
 #[test]
