@@ -448,8 +448,8 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         );
         for (k, h) in sol.holes.iter().enumerate() {
             say!(
-                "hole {}             u = C = {:.15e} on its boundary (area {:.6e})",
-                k + 1,
+                "{:<19}u = C = {:.15e} on its boundary (area {:.6e})",
+                format!("hole[{k}]"),
                 h.stress_function,
                 section.holes[k].area
             );

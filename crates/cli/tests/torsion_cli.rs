@@ -342,3 +342,47 @@ fn a_point_next_to_the_boundary_reports_its_distance_and_round_off() {
         "{warnings:?}"
     );
 }
+
+/// Geometry errors of a section file name the file, and its holes as its
+/// field errors do (`hole[k]`, 0-based); the printed hole constants use the
+/// same names.
+#[test]
+fn section_file_geometry_errors_name_the_file_and_the_hole() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("x.toml");
+    std::fs::write(
+        &f,
+        "vertices = [[0, 0], [1, 0], [1, 1], [0, 1]]\n\
+         [[hole]]\nvertices = [[0.2, 0.2], [0.4, 0.2], [0.4, 0.4], [0.2, 0.4]]\n\
+         [[hole]]\nvertices = [[2, 2], [3, 2], [3, 3]]\n",
+    )
+    .unwrap();
+    let path = f.to_str().unwrap();
+    let (ok, _, err) = tecon(&["--section", path]);
+    assert!(!ok);
+    assert_eq!(
+        err.trim_end(),
+        format!(
+            "error: section file `{path}`: invalid section geometry: hole[1] lies outside the outer boundary"
+        )
+    );
+    // a hole crossing the outer boundary: named, with a point where they meet
+    std::fs::write(
+        &f,
+        "vertices = [[0, 0], [1, 0], [1, 1], [0, 1]]\n\
+         [[hole]]\nvertices = [[0.5, 0.5], [1.5, 0.5], [1.5, 0.7], [0.5, 0.7]]\n",
+    )
+    .unwrap();
+    let (ok, _, err) = tecon(&["--section", path]);
+    assert!(!ok);
+    assert!(
+        err.contains(&format!("section file `{path}`: invalid section geometry: hole[0] touches or crosses the outer boundary near (1.000000, 0."))
+            && (err.contains("0.500000)") || err.contains("0.700000)"))
+            && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    // the tube's hole constant is printed under the same name as the JSON's holes[0]
+    let (ok, out, err) = tecon(&["--section", "tube:ro=1,ri=0.6"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("\nhole[0]            u = C = 3.2"), "{out}");
+}

@@ -132,7 +132,7 @@ fn hole_errors_are_named() {
         .translated([3.0, 0.0])
         .unwrap();
     let e = geometry::Section::with_holes(outer.clone(), vec![far]).unwrap_err();
-    assert!(e.to_string().contains("hole 1 lies outside"), "{e}");
+    assert!(e.to_string().contains("hole[0] lies outside"), "{e}");
     let touching = sections::circle(0.5)
         .unwrap()
         .translated([0.6, 0.0])
@@ -145,7 +145,7 @@ fn hole_errors_are_named() {
         .translated([0.4, 0.0])
         .unwrap();
     let e = geometry::Section::with_holes(outer, vec![a, b]).unwrap_err();
-    assert!(e.to_string().contains("holes 1 and 2 overlap"), "{e}");
+    assert!(e.to_string().contains("hole[0] and hole[1] overlap"), "{e}");
     // the oversampled Shannon method handles holes: the tube is exact
     let s = sections::tube(1.0, 0.5).unwrap();
     let j = solve(&s, &opts(Method::Shannon, 64))
@@ -285,7 +285,7 @@ vertices = [[0.1, 0.1], [1.9, 0.1], [1.9, 0.9], [0.1, 0.9], [0.1, 0.1]]
         boxed
             .notes
             .iter()
-            .any(|n| n.starts_with("hole 1: vertex 5 repeats vertex 1")),
+            .any(|n| n.starts_with("hole[0]: vertex 5 repeats vertex 1")),
         "{:?}",
         boxed.notes
     );
