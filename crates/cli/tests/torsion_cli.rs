@@ -386,3 +386,45 @@ fn section_file_geometry_errors_name_the_file_and_the_hole() {
     assert!(ok, "{err}");
     assert!(out.contains("\nhole[0]            u = C = 3.2"), "{out}");
 }
+
+/// Γ = ∫ ω_n² dA of the circle and the tube is 0 to round-off: it is never
+/// printed negative (the circle's was `Γ = -4.301258532980e-33`), in the
+/// text, the JSON (levels included) and results.csv, and its estimate still
+/// converges.
+#[test]
+fn a_vanishing_warping_constant_is_never_reported_negative() {
+    for spec in ["circle:r=1", "tube:ro=1,ri=0.6"] {
+        let (ok, out, err) = tecon(&["--section", spec]);
+        assert!(ok, "{spec}: {err}");
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("warping constant"))
+            .unwrap();
+        assert!(!line.contains("Γ = -"), "{spec}: {line}");
+        let v = json(&["--section", spec]);
+        assert!(v["warping_constant"].as_f64().unwrap() >= 0.0, "{spec}");
+        assert!(v["warping"]["warping_constant"].as_f64().unwrap() >= 0.0);
+        assert!(
+            v["warping"]["centroidal_warping_constant"]
+                .as_f64()
+                .unwrap()
+                >= 0.0
+        );
+        for l in v["levels"].as_array().unwrap() {
+            let g = &l["warping_constant"];
+            assert!(g.is_null() || g.as_f64().unwrap() >= 0.0, "{spec}: {l}");
+        }
+        assert_eq!(v["converged"], true);
+        assert!(v["estimated_error"]["warping_constant"].as_f64().unwrap() <= 1e-8);
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path().join("out");
+        let (ok, _, err) = tecon(&["--section", spec, "--out", d.to_str().unwrap()]);
+        assert!(ok, "{err}");
+        let res = std::fs::read_to_string(d.join("results.csv")).unwrap();
+        assert!(
+            res.lines().any(|l| l.starts_with("warping_constant,")
+                && !l.starts_with("warping_constant,-")),
+            "{res}"
+        );
+    }
+}

@@ -200,7 +200,10 @@ mod tests {
         let p = seg_intersection([1.0, 0.0], [1.0, 1.0], [0.5, 0.5], [1.5, 0.5]).unwrap();
         assert_eq!(p, [1.0, 0.5]);
         let p = seg_intersection([0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]).unwrap();
-        assert!((p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15, "{p:?}");
+        assert!(
+            (p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15,
+            "{p:?}"
+        );
         // touching: the end (0.5, 0) of one lies on the other
         let p = seg_intersection([0.0, 0.0], [1.0, 0.0], [0.5, 0.0], [0.5, 1.0]).unwrap();
         assert_eq!(p, [0.5, 0.0]);
@@ -216,7 +219,10 @@ mod tests {
     #[test]
     fn a_bow_tie_crosses_at_its_middle() {
         let p = first_crossing(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
-        assert!((p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15, "{p:?}");
+        assert!(
+            (p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15,
+            "{p:?}"
+        );
         assert!(first_crossing(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]).is_none());
     }
 }

@@ -311,7 +311,9 @@ fn geometry_errors_name_the_file_and_the_hole() {
         .unwrap_err()
         .to_string();
     assert!(
-        m.starts_with("box: bad value `0.4999999999999` for field `tw`: the inside is not a valid section"),
+        m.starts_with(
+            "box: bad value `0.4999999999999` for field `tw`: the inside is not a valid section"
+        ),
         "{m}"
     );
     // the outside's errors stay those of a rectangle
