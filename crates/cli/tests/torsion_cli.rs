@@ -428,3 +428,130 @@ fn a_vanishing_warping_constant_is_never_reported_negative() {
         );
     }
 }
+
+/// The files of a folder as a sorted list of names, the manifest (written
+/// by the folder manager, not by the run) left out.
+fn folder_files(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "tecon-manifest.json")
+        .collect();
+    v.sort();
+    v
+}
+
+/// `--out` lists every file it writes, report.txt and report.html
+/// included (they were missing), in the `wrote` lines and the JSON `files`;
+/// a run that fails unconverged writes no report and does not list one.
+#[test]
+fn out_dir_lists_every_file_it_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("text");
+    let (ok, out, err) = tecon(&["--section", "ellipse:a=2,b=1", "--out", d.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let mut wrote: Vec<String> = out
+        .lines()
+        .filter_map(|l| l.strip_prefix("wrote              "))
+        .map(|p| {
+            let p = std::path::Path::new(p);
+            assert_eq!(p.parent().unwrap(), d, "{}", p.display());
+            p.file_name().unwrap().to_string_lossy().into_owned()
+        })
+        .collect();
+    wrote.sort();
+    assert!(
+        wrote.contains(&"report.txt".to_string()) && wrote.contains(&"report.html".to_string()),
+        "{wrote:?}"
+    );
+    assert_eq!(wrote, folder_files(&d));
+    // the saved report lists them too
+    let saved = std::fs::read_to_string(d.join("report.txt")).unwrap();
+    assert!(saved.contains("report.html") && saved.contains("report.txt"));
+    // the JSON's files: the same list
+    let d = dir.path().join("json");
+    let v = json(&["--section", "ellipse:a=2,b=1", "--out", d.to_str().unwrap()]);
+    let mut files: Vec<String> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            let p = std::path::Path::new(f.as_str().unwrap());
+            p.file_name().unwrap().to_string_lossy().into_owned()
+        })
+        .collect();
+    files.sort();
+    assert_eq!(files, wrote);
+    assert_eq!(files, folder_files(&d));
+    // unconverged and not accepted (exit 2): no report is written or listed
+    let d = dir.path().join("unconverged");
+    let (ok, out, _) = tecon(&[
+        "--section",
+        "rectangle:w=1,h=100",
+        "--n",
+        "256",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(out.contains("wrote") && !out.contains("report."), "{out}");
+    assert!(!d.join("report.txt").exists() && !d.join("report.html").exists());
+}
+
+/// The JSON has no `compression` key (always null since `--compress` was
+/// removed); `estimated_from` lists the n of the rungs the estimates use.
+#[test]
+fn json_has_no_compression_key_and_says_where_the_estimates_come_from() {
+    let v = json(&["--section", "rectangle:w=1,h=1"]);
+    assert!(v.get("compression").is_none(), "{v}");
+    let from: Vec<u64> = v["estimated_from"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_u64().unwrap())
+        .collect();
+    // two or three rungs, doubling, the finest the reported n
+    assert!(from.len() == 2 || from.len() == 3, "{from:?}");
+    assert!(from.windows(2).all(|w| w[1] == 2 * w[0]), "{from:?}");
+    assert_eq!(*from.last().unwrap(), v["n"].as_u64().unwrap());
+    assert!(
+        v["warping"]["omega"]
+            .as_str()
+            .unwrap()
+            .contains("warping.csv")
+    );
+}
+
+/// The text output of `--points` gives each point's distance to the
+/// boundary and its round-off bound, as the JSON does.
+#[test]
+fn points_in_the_text_output_have_their_distance_and_round_off() {
+    let (ok, out, err) = tecon(&[
+        "--section",
+        "ellipse:a=1,b=0.5",
+        "--points",
+        "0.999999999,0;0.5,0",
+    ]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().filter(|l| l.starts_with("point (")).collect();
+    assert_eq!(lines.len(), 2, "{out}");
+    let v = json(&[
+        "--section",
+        "ellipse:a=1,b=0.5",
+        "--points",
+        "0.999999999,0;0.5,0",
+    ]);
+    for (line, p) in lines.iter().zip(v["interior"].as_array().unwrap()) {
+        let d = p["distance"].as_f64().unwrap();
+        let r = p["round_off"].as_f64().unwrap();
+        assert!(
+            line.ends_with(&format!("(distance {d:.1e}, round-off ≤ {r:.1e})")),
+            "{line}"
+        );
+    }
+    assert!(
+        lines[0].contains("(distance 1.0e-9, round-off ≤ "),
+        "{}",
+        lines[0]
+    );
+}
