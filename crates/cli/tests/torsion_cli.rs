@@ -555,3 +555,68 @@ fn points_in_the_text_output_have_their_distance_and_round_off() {
         lines[0]
     );
 }
+
+/// The first example of docs/torsion.md runs a section file the page shows
+/// (it named a `my_box.toml` that was nowhere): its TOML block, saved as
+/// `my_box.toml`, runs with the page's command and gives the J of its
+/// comment, that of the built-in box it says it is.
+#[test]
+fn the_section_file_example_of_the_docs_runs() {
+    let doc = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/torsion.md"
+    ))
+    .unwrap();
+    let toml = doc
+        .split("```toml\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .unwrap();
+    let command = doc
+        .lines()
+        .find(|l| l.contains("--section my_box.toml"))
+        .unwrap();
+    // the block comes before the command that uses it
+    assert!(doc.find(toml).unwrap() < doc.find(command).unwrap());
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("my_box.toml");
+    std::fs::write(&file, toml).unwrap();
+    let out_dir = dir.path().join("out/box");
+    let (args, comment) = command.split_once('#').unwrap();
+    let args: Vec<String> = args
+        .split_whitespace()
+        .skip_while(|a| *a != "torsion")
+        .skip(1)
+        .map(|a| match a {
+            "my_box.toml" => file.to_str().unwrap().to_string(),
+            "out/box" => out_dir.to_str().unwrap().to_string(),
+            a => a.to_string(),
+        })
+        .collect();
+    let mut args: Vec<&str> = args.iter().map(String::as_str).collect();
+    assert!(
+        args.contains(&"--tol") && args.contains(&"--out"),
+        "{args:?}"
+    );
+    args.extend(["--format", "json"]);
+    let (ok, out, err) = tecon(&args);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let j = v["torsional_rigidity"].as_f64().unwrap();
+    let digits = comment
+        .trim()
+        .strip_prefix("J = ")
+        .unwrap()
+        .trim_end_matches('…');
+    assert!(
+        format!("{j:.16}").starts_with(digits),
+        "J {j} against the comment {digits}"
+    );
+    let b = json(&["--section", "box:w=2,h=1,tf=0.1,tw=0.05", "--tol", "1e-10"]);
+    let jb = b["torsional_rigidity"].as_f64().unwrap();
+    assert!(
+        (j / jb - 1.0).abs() < 1e-12,
+        "file {j} against built-in {jb}"
+    );
+    assert!(out_dir.join("report.html").exists());
+}
