@@ -365,6 +365,17 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         written.push(b);
     }
 
+    // the printed report, report.txt (written at the end of this run), and
+    // the page report.html (built from the folder by the caller, `tecon
+    // torsion` in main.rs, once this run returns Ok): both are written only
+    // when the run succeeds, so they are listed only then
+    if let Some(dir) = &args.out
+        && (ctl.converged || args.allow_unconverged)
+    {
+        written.push(dir.join(crate::report_html::REPORT_TEXT));
+        written.push(dir.join(crate::report_html::REPORT));
+    }
+
     let method_name = method.to_string();
     // the printed report (also report.txt beside the outputs)
     let mut text = String::new();
@@ -448,8 +459,8 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         );
         for (k, h) in sol.holes.iter().enumerate() {
             say!(
-                "hole {}             u = C = {:.15e} on its boundary (area {:.6e})",
-                k + 1,
+                "{:<19}u = C = {:.15e} on its boundary (area {:.6e})",
+                format!("hole[{k}]"),
                 h.stress_function,
                 section.holes[k].area
             );
@@ -480,24 +491,18 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
             "converged          {}",
             if ctl.converged { "yes" } else { "NO" }
         );
-        if let Some(c) = &sol.compression {
-            say!(
-                "compression        ε = {:.1e}: {:.1} entries/row, operator error {:.2e}, CG {} iterations (residual {:.1e})",
-                c.eps,
-                c.entries_per_row,
-                c.operator_error,
-                c.iterations,
-                c.residual
-            );
-        }
+        // each point with its distance to Γ and the bound ε L/distance on
+        // the round-off of its stresses (the JSON's `distance`, `round_off`)
         for v in &interior {
             say!(
-                "point ({:.6}, {:.6}): u = {:.12e}  τ_xz = {:.12e}  τ_yz = {:.12e}",
+                "point ({:.6}, {:.6}): u = {:.12e}  τ_xz = {:.12e}  τ_yz = {:.12e}  (distance {:.1e}, round-off ≤ {:.1e})",
                 v.x[0],
                 v.x[1],
                 v.u,
                 v.tau_xz,
-                v.tau_yz
+                v.tau_yz,
+                v.distance,
+                v.round_off
             );
         }
         if !study.is_empty() {
@@ -561,7 +566,6 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 "centroid": section.centroid,
                 "polar_moment": section.polar_moment(),
                 "properties": section.properties(),
-                "compression": sol.compression,
                 "interior": interior,
                 "study": study.iter().map(|(m, j, d, o)| json!({"n": m, "torsional_rigidity": j, "difference": d, "observed_order": o})).collect::<Vec<_>>(),
                 "files": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),

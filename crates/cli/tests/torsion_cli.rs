@@ -342,3 +342,281 @@ fn a_point_next_to_the_boundary_reports_its_distance_and_round_off() {
         "{warnings:?}"
     );
 }
+
+/// Geometry errors of a section file name the file, and its holes as its
+/// field errors do (`hole[k]`, 0-based); the printed hole constants use the
+/// same names.
+#[test]
+fn section_file_geometry_errors_name_the_file_and_the_hole() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("x.toml");
+    std::fs::write(
+        &f,
+        "vertices = [[0, 0], [1, 0], [1, 1], [0, 1]]\n\
+         [[hole]]\nvertices = [[0.2, 0.2], [0.4, 0.2], [0.4, 0.4], [0.2, 0.4]]\n\
+         [[hole]]\nvertices = [[2, 2], [3, 2], [3, 3]]\n",
+    )
+    .unwrap();
+    let path = f.to_str().unwrap();
+    let (ok, _, err) = tecon(&["--section", path]);
+    assert!(!ok);
+    assert_eq!(
+        err.trim_end(),
+        format!(
+            "error: section file `{path}`: invalid section geometry: hole[1] lies outside the outer boundary"
+        )
+    );
+    // a hole crossing the outer boundary: named, with a point where they meet
+    std::fs::write(
+        &f,
+        "vertices = [[0, 0], [1, 0], [1, 1], [0, 1]]\n\
+         [[hole]]\nvertices = [[0.5, 0.5], [1.5, 0.5], [1.5, 0.7], [0.5, 0.7]]\n",
+    )
+    .unwrap();
+    let (ok, _, err) = tecon(&["--section", path]);
+    assert!(!ok);
+    assert!(
+        err.contains(&format!("section file `{path}`: invalid section geometry: hole[0] touches or crosses the outer boundary near (1.000000, 0."))
+            && (err.contains("0.500000)") || err.contains("0.700000)"))
+            && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    // the tube's hole constant is printed under the same name as the JSON's holes[0]
+    let (ok, out, err) = tecon(&["--section", "tube:ro=1,ri=0.6"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("\nhole[0]            u = C = 3.2"), "{out}");
+}
+
+/// Γ = ∫ ω_n² dA of the circle and the tube is 0 to round-off: it is never
+/// printed negative (the circle's was `Γ = -4.301258532980e-33`), in the
+/// text, the JSON (levels included) and results.csv, and its estimate still
+/// converges.
+#[test]
+fn a_vanishing_warping_constant_is_never_reported_negative() {
+    for spec in ["circle:r=1", "tube:ro=1,ri=0.6"] {
+        let (ok, out, err) = tecon(&["--section", spec]);
+        assert!(ok, "{spec}: {err}");
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("warping constant"))
+            .unwrap();
+        assert!(!line.contains("Γ = -"), "{spec}: {line}");
+        let v = json(&["--section", spec]);
+        assert!(v["warping_constant"].as_f64().unwrap() >= 0.0, "{spec}");
+        assert!(v["warping"]["warping_constant"].as_f64().unwrap() >= 0.0);
+        assert!(
+            v["warping"]["centroidal_warping_constant"]
+                .as_f64()
+                .unwrap()
+                >= 0.0
+        );
+        for l in v["levels"].as_array().unwrap() {
+            let g = &l["warping_constant"];
+            assert!(g.is_null() || g.as_f64().unwrap() >= 0.0, "{spec}: {l}");
+        }
+        assert_eq!(v["converged"], true);
+        assert!(v["estimated_error"]["warping_constant"].as_f64().unwrap() <= 1e-8);
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path().join("out");
+        let (ok, _, err) = tecon(&["--section", spec, "--out", d.to_str().unwrap()]);
+        assert!(ok, "{err}");
+        let res = std::fs::read_to_string(d.join("results.csv")).unwrap();
+        assert!(
+            res.lines().any(|l| l.starts_with("warping_constant,")
+                && !l.starts_with("warping_constant,-")),
+            "{res}"
+        );
+    }
+}
+
+/// The files of a folder as a sorted list of names, the manifest (written
+/// by the folder manager, not by the run) left out.
+fn folder_files(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "tecon-manifest.json")
+        .collect();
+    v.sort();
+    v
+}
+
+/// `--out` lists every file it writes, report.txt and report.html
+/// included (they were missing), in the `wrote` lines and the JSON `files`;
+/// a run that fails unconverged writes no report and does not list one.
+#[test]
+fn out_dir_lists_every_file_it_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("text");
+    let (ok, out, err) = tecon(&["--section", "ellipse:a=2,b=1", "--out", d.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let mut wrote: Vec<String> = out
+        .lines()
+        .filter_map(|l| l.strip_prefix("wrote              "))
+        .map(|p| {
+            let p = std::path::Path::new(p);
+            assert_eq!(p.parent().unwrap(), d, "{}", p.display());
+            p.file_name().unwrap().to_string_lossy().into_owned()
+        })
+        .collect();
+    wrote.sort();
+    assert!(
+        wrote.contains(&"report.txt".to_string()) && wrote.contains(&"report.html".to_string()),
+        "{wrote:?}"
+    );
+    assert_eq!(wrote, folder_files(&d));
+    // the saved report lists them too
+    let saved = std::fs::read_to_string(d.join("report.txt")).unwrap();
+    assert!(saved.contains("report.html") && saved.contains("report.txt"));
+    // the JSON's files: the same list
+    let d = dir.path().join("json");
+    let v = json(&["--section", "ellipse:a=2,b=1", "--out", d.to_str().unwrap()]);
+    let mut files: Vec<String> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            let p = std::path::Path::new(f.as_str().unwrap());
+            p.file_name().unwrap().to_string_lossy().into_owned()
+        })
+        .collect();
+    files.sort();
+    assert_eq!(files, wrote);
+    assert_eq!(files, folder_files(&d));
+    // unconverged and not accepted (exit 2): no report is written or listed
+    let d = dir.path().join("unconverged");
+    let (ok, out, _) = tecon(&[
+        "--section",
+        "rectangle:w=1,h=100",
+        "--n",
+        "256",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(out.contains("wrote") && !out.contains("report."), "{out}");
+    assert!(!d.join("report.txt").exists() && !d.join("report.html").exists());
+}
+
+/// The JSON has no `compression` key (always null since `--compress` was
+/// removed); `estimated_from` lists the n of the rungs the estimates use.
+#[test]
+fn json_has_no_compression_key_and_says_where_the_estimates_come_from() {
+    let v = json(&["--section", "rectangle:w=1,h=1"]);
+    assert!(v.get("compression").is_none(), "{v}");
+    let from: Vec<u64> = v["estimated_from"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_u64().unwrap())
+        .collect();
+    // two or three rungs, doubling, the finest the reported n
+    assert!(from.len() == 2 || from.len() == 3, "{from:?}");
+    assert!(from.windows(2).all(|w| w[1] == 2 * w[0]), "{from:?}");
+    assert_eq!(*from.last().unwrap(), v["n"].as_u64().unwrap());
+    assert!(
+        v["warping"]["omega"]
+            .as_str()
+            .unwrap()
+            .contains("warping.csv")
+    );
+}
+
+/// The text output of `--points` gives each point's distance to the
+/// boundary and its round-off bound, as the JSON does.
+#[test]
+fn points_in_the_text_output_have_their_distance_and_round_off() {
+    let (ok, out, err) = tecon(&[
+        "--section",
+        "ellipse:a=1,b=0.5",
+        "--points",
+        "0.999999999,0;0.5,0",
+    ]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().filter(|l| l.starts_with("point (")).collect();
+    assert_eq!(lines.len(), 2, "{out}");
+    let v = json(&[
+        "--section",
+        "ellipse:a=1,b=0.5",
+        "--points",
+        "0.999999999,0;0.5,0",
+    ]);
+    for (line, p) in lines.iter().zip(v["interior"].as_array().unwrap()) {
+        let d = p["distance"].as_f64().unwrap();
+        let r = p["round_off"].as_f64().unwrap();
+        assert!(
+            line.ends_with(&format!("(distance {d:.1e}, round-off ≤ {r:.1e})")),
+            "{line}"
+        );
+    }
+    assert!(
+        lines[0].contains("(distance 1.0e-9, round-off ≤ "),
+        "{}",
+        lines[0]
+    );
+}
+
+/// The first example of docs/torsion.md runs a section file the page shows
+/// (it named a `my_box.toml` that was nowhere): its TOML block, saved as
+/// `my_box.toml`, runs with the page's command and gives the J of its
+/// comment, that of the built-in box it says it is.
+#[test]
+fn the_section_file_example_of_the_docs_runs() {
+    let doc = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/torsion.md"
+    ))
+    .unwrap();
+    let toml = doc
+        .split("```toml\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .unwrap();
+    let command = doc
+        .lines()
+        .find(|l| l.contains("--section my_box.toml"))
+        .unwrap();
+    // the block comes before the command that uses it
+    assert!(doc.find(toml).unwrap() < doc.find(command).unwrap());
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("my_box.toml");
+    std::fs::write(&file, toml).unwrap();
+    let out_dir = dir.path().join("out/box");
+    let (args, comment) = command.split_once('#').unwrap();
+    let args: Vec<String> = args
+        .split_whitespace()
+        .skip_while(|a| *a != "torsion")
+        .skip(1)
+        .map(|a| match a {
+            "my_box.toml" => file.to_str().unwrap().to_string(),
+            "out/box" => out_dir.to_str().unwrap().to_string(),
+            a => a.to_string(),
+        })
+        .collect();
+    let mut args: Vec<&str> = args.iter().map(String::as_str).collect();
+    assert!(
+        args.contains(&"--tol") && args.contains(&"--out"),
+        "{args:?}"
+    );
+    args.extend(["--format", "json"]);
+    let (ok, out, err) = tecon(&args);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let j = v["torsional_rigidity"].as_f64().unwrap();
+    let digits = comment
+        .trim()
+        .strip_prefix("J = ")
+        .unwrap()
+        .trim_end_matches('…');
+    assert!(
+        format!("{j:.16}").starts_with(digits),
+        "J {j} against the comment {digits}"
+    );
+    let b = json(&["--section", "box:w=2,h=1,tf=0.1,tw=0.05", "--tol", "1e-10"]);
+    let jb = b["torsional_rigidity"].as_f64().unwrap();
+    assert!(
+        (j / jb - 1.0).abs() < 1e-12,
+        "file {j} against built-in {jb}"
+    );
+    assert!(out_dir.join("report.html").exists());
+}

@@ -96,7 +96,8 @@ pub struct Level {
     /// shear centre at this n (None: not computed, J or τ_max of this
     /// resolution did not yet agree with a neighbour)
     pub shear_centre: Option<[f64; 2]>,
-    /// warping constant Γ at this n (None: not computed)
+    /// warping constant Γ at this n (None: not computed), as reported:
+    /// max(Γ, 0) in [`Controlled::levels`]
     pub warping_constant: Option<f64>,
 }
 
@@ -111,7 +112,8 @@ pub struct Controlled {
     pub j_error: f64,
     /// estimated relative error of τ_max (None when τ_max is singular)
     pub tau_error: Option<f64>,
-    /// warping function, shear centre and warping constant of the finest solution
+    /// warping function, shear centre and warping constant of the finest
+    /// solution, as reported ([`Warping::reported`]: Γ ≥ 0)
     pub warping: Warping,
     /// estimated error of the shear centre: |x_S(n) − x_S(n/2)| / r_g, with
     /// r_g = √(I_p/A) the polar radius of gyration
@@ -564,12 +566,19 @@ fn finish(
     }
     // the reported rung's τ_max (its largest regular value when singular)
     let max_shear = fine.1.unwrap_or_else(|| fine.0.max_shear());
+    // Γ = ∫ω_n² dA is reported as max(Γ, 0), at every level too: a negative
+    // value is round-off of a vanishing ω (circles, tubes). The estimates
+    // above used the values as computed.
+    let mut levels = levels;
+    for l in &mut levels {
+        l.warping_constant = l.warping_constant.map(crate::warping::nonnegative);
+    }
     Controlled {
         solution: fine.0,
         max_shear,
         j_error,
         tau_error,
-        warping: fine.2,
+        warping: fine.2.reported(),
         shear_centre_error,
         warping_error,
         tol,

@@ -50,25 +50,27 @@ pub enum GeometryError {
         junction: usize,
     },
     /// A hole lies outside the outer boundary.
-    #[error("hole {hole} lies outside the outer boundary")]
+    #[error("hole[{hole}] lies outside the outer boundary")]
     HoleOutside {
-        /// hole number (1-based)
+        /// hole index (0-based: the position in the list of holes, the
+        /// `[[hole]]` tables of a section file in order)
         hole: usize,
     },
     /// A hole meets the outer boundary.
-    #[error("hole {hole} touches or crosses the outer boundary near ({:.6}, {:.6})", near[0], near[1])]
+    #[error("hole[{hole}] touches or crosses the outer boundary near ({:.6}, {:.6})", near[0], near[1])]
     HoleTouchesBoundary {
-        /// hole number (1-based)
+        /// hole index (0-based)
         hole: usize,
-        /// a point near the contact
+        /// a point where the two boundaries meet (on the inscribed polygons
+        /// that curved pieces are checked as)
         near: [f64; 2],
     },
     /// Two holes overlap or touch.
-    #[error("holes {a} and {b} overlap or touch")]
+    #[error("hole[{a}] and hole[{b}] overlap or touch")]
     HolesOverlap {
-        /// first hole (1-based)
+        /// first hole (0-based)
         a: usize,
-        /// second hole (1-based)
+        /// second hole (0-based)
         b: usize,
     },
     /// A hole was given holes of its own.
@@ -157,6 +159,18 @@ pub enum SpecError {
     /// The geometry is invalid.
     #[error("invalid section geometry: {0}")]
     Geometry(#[from] GeometryError),
+    /// The geometry of a section file is invalid.
+    #[error("section file `{path}`: invalid section geometry: {at}{error}")]
+    FileGeometry {
+        /// file path
+        path: String,
+        /// the curve at fault: "" (the outer boundary, or the holes'
+        /// placement, which names them) or "hole[k]: " (0-based)
+        at: String,
+        /// what is wrong
+        #[source]
+        error: GeometryError,
+    },
 }
 
 /// Failure of a solve.

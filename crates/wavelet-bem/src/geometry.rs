@@ -666,6 +666,8 @@ impl Section {
     /// A section with holes. `outer` and every hole are simply connected
     /// sections (either orientation given, validated on their own); holes
     /// must lie inside `outer`, clear of its boundary and of each other.
+    /// Errors and notes name the holes by their 0-based position in `holes`
+    /// (`hole[k]`, as the field errors of a section file do).
     /// Each hole is stored clockwise (Ω on its left); `area`, `centroid`
     /// and the moments become those of Ω.
     pub fn with_holes(outer: Section, holes: Vec<Section>) -> Result<Section, GeometryError> {
@@ -676,17 +678,17 @@ impl Section {
         let polys: Vec<Vec<V2>> = holes.iter().map(|h| polyline(&h.pieces, 48)).collect();
         for (k, hp) in polys.iter().enumerate() {
             if let Some(near) = polylines_cross(&outer_poly, hp) {
-                return Err(GeometryError::HoleTouchesBoundary { hole: k + 1, near });
+                return Err(GeometryError::HoleTouchesBoundary { hole: k, near });
             }
             if winding(&outer_poly, hp[0]) == 0 {
-                return Err(GeometryError::HoleOutside { hole: k + 1 });
+                return Err(GeometryError::HoleOutside { hole: k });
             }
             for (l, lp) in polys.iter().enumerate().take(k) {
                 if polylines_cross(lp, hp).is_some()
                     || winding(lp, hp[0]) != 0
                     || winding(hp, lp[0]) != 0
                 {
-                    return Err(GeometryError::HolesOverlap { a: l + 1, b: k + 1 });
+                    return Err(GeometryError::HolesOverlap { a: l, b: k });
                 }
             }
         }
@@ -697,9 +699,10 @@ impl Section {
             sec.area * sec.centroid[1],
         );
         for (k, h) in holes.into_iter().enumerate() {
-            // a hole's notes (merged or dropped vertices) name it
+            // a hole's notes (merged or dropped vertices) name it as the
+            // errors do: hole[k], 0-based
             sec.notes
-                .extend(h.notes.iter().map(|n| format!("hole {}: {n}", k + 1)));
+                .extend(h.notes.iter().map(|n| format!("hole[{k}]: {n}")));
             a -= h.area;
             mx -= h.area * h.centroid[0];
             my -= h.area * h.centroid[1];

@@ -79,34 +79,36 @@ fn grid_pairs(segs: &[(V2, V2)], mut visit: impl FnMut(usize, usize) -> bool) ->
 }
 
 /// First crossing of a closed polyline with itself (non-adjacent edges that
-/// meet), in O(P) expected time for evenly spread edges.
+/// meet), in O(P) expected time for evenly spread edges: a point both edges
+/// hold (their crossing, or where they touch).
 pub(crate) fn first_crossing(poly: &[V2]) -> Option<V2> {
     let np = poly.len();
     let segs: Vec<(V2, V2)> = (0..np).map(|i| (poly[i], poly[(i + 1) % np])).collect();
     let mut near = None;
     grid_pairs(&segs, |i, j| {
         let adjacent = j == i + 1 || (i == 0 && j == np - 1);
-        if !adjacent && seg_intersect(segs[i].0, segs[i].1, segs[j].0, segs[j].1) {
-            near = Some(segs[i].0);
-            return true;
+        if adjacent {
+            return false;
         }
-        false
+        near = seg_intersection(segs[i].0, segs[i].1, segs[j].0, segs[j].1);
+        near.is_some()
     });
     near
 }
 
-/// First crossing between two closed polylines (any edges that meet).
+/// First crossing between two closed polylines (any edges that meet): a
+/// point both polylines hold (where two edges cross, or touch).
 pub(crate) fn polylines_cross(a: &[V2], b: &[V2]) -> Option<V2> {
     let mut segs: Vec<(V2, V2)> = (0..a.len()).map(|i| (a[i], a[(i + 1) % a.len()])).collect();
     let na = segs.len();
     segs.extend((0..b.len()).map(|i| (b[i], b[(i + 1) % b.len()])));
     let mut near = None;
     grid_pairs(&segs, |i, j| {
-        if i < na && j >= na && seg_intersect(segs[i].0, segs[i].1, segs[j].0, segs[j].1) {
-            near = Some(segs[i].0);
-            return true;
+        if !(i < na && j >= na) {
+            return false;
         }
-        false
+        near = seg_intersection(segs[i].0, segs[i].1, segs[j].0, segs[j].1);
+        near.is_some()
     });
     near
 }
@@ -148,7 +150,10 @@ pub(crate) fn polyline_distance(poly: &[V2], p: V2) -> f64 {
     d
 }
 
-fn seg_intersect(p1: V2, p2: V2, q1: V2, q2: V2) -> bool {
+/// A point the segments p1p2 and q1q2 share, if they meet: their crossing
+/// when they cross, else an end point lying on the other segment (they
+/// touch, or overlap along a line).
+fn seg_intersection(p1: V2, p2: V2, q1: V2, q2: V2) -> Option<V2> {
     let cross = |o: V2, a: V2, b: V2| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
     let on_seg = |a: V2, b: V2, p: V2| {
         p[0] >= a[0].min(b[0])
@@ -163,11 +168,61 @@ fn seg_intersect(p1: V2, p2: V2, q1: V2, q2: V2) -> bool {
     if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
         && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
     {
-        return true;
+        // p1 + s (p2 − p1) with s = d1/(d1 − d2) ∈ (0, 1): d1 and d2 are the
+        // signed distances of p1 and p2 from the line q1q2 (times |q2 − q1|)
+        let s = d1 / (d1 - d2);
+        return Some([p1[0] + s * (p2[0] - p1[0]), p1[1] + s * (p2[1] - p1[1])]);
     }
     // touching or collinear overlap (non-adjacent polyline segments must not meet at all)
-    (d1 == 0.0 && on_seg(q1, q2, p1))
-        || (d2 == 0.0 && on_seg(q1, q2, p2))
-        || (d3 == 0.0 && on_seg(p1, p2, q1))
-        || (d4 == 0.0 && on_seg(p1, p2, q2))
+    if d1 == 0.0 && on_seg(q1, q2, p1) {
+        Some(p1)
+    } else if d2 == 0.0 && on_seg(q1, q2, p2) {
+        Some(p2)
+    } else if d3 == 0.0 && on_seg(p1, p2, q1) {
+        Some(q1)
+    } else if d4 == 0.0 && on_seg(p1, p2, q2) {
+        Some(q2)
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The point reported is one both segments hold: their crossing, or
+    /// the end point where they touch.
+    #[test]
+    fn segments_meet_where_they_cross_or_touch() {
+        // the side x = 1 of the unit square against the bottom side of the
+        // hole (0.5 … 1.5) × (0.5 … 0.7)
+        let p = seg_intersection([1.0, 0.0], [1.0, 1.0], [0.5, 0.5], [1.5, 0.5]).unwrap();
+        assert_eq!(p, [1.0, 0.5]);
+        let p = seg_intersection([0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]).unwrap();
+        assert!(
+            (p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15,
+            "{p:?}"
+        );
+        // touching: the end (0.5, 0) of one lies on the other
+        let p = seg_intersection([0.0, 0.0], [1.0, 0.0], [0.5, 0.0], [0.5, 1.0]).unwrap();
+        assert_eq!(p, [0.5, 0.0]);
+        // collinear overlap (0.5 … 1 on the x axis): an end point inside the other segment
+        let p = seg_intersection([0.0, 0.0], [1.0, 0.0], [0.5, 0.0], [2.0, 0.0]).unwrap();
+        assert_eq!(p, [1.0, 0.0]);
+        // apart
+        assert!(seg_intersection([0.0, 0.0], [1.0, 0.0], [0.0, 0.1], [1.0, 0.1]).is_none());
+        assert!(seg_intersection([0.0, 0.0], [1.0, 0.0], [2.0, -1.0], [2.0, 1.0]).is_none());
+    }
+
+    /// A self-crossing polyline (a bow tie) reports its crossing point.
+    #[test]
+    fn a_bow_tie_crosses_at_its_middle() {
+        let p = first_crossing(&[[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+        assert!(
+            (p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15,
+            "{p:?}"
+        );
+        assert!(first_crossing(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]).is_none());
+    }
 }

@@ -309,6 +309,23 @@ pub fn limacon(a: f64, c: f64) -> Result<Section, GeometryError> {
     )
 }
 
+/// A geometry error of the inside of a tube or a box (its one hole, which
+/// the user did not give as a hole) as a bad value of the wall field
+/// `field`: "hole[0]" would name nothing the user wrote.
+fn inside_error(kind: &str, field: &str, value: &str, e: GeometryError) -> SpecError {
+    let why = match e {
+        GeometryError::HoleTouchesBoundary { near, .. } => format!(
+            "the wall is too thin for double precision at this size: the inside touches the outside near ({:.6}, {:.6})",
+            near[0], near[1]
+        ),
+        GeometryError::HoleOutside { .. } | GeometryError::HolesOverlap { .. } => {
+            "the inside does not lie within the outside".to_string()
+        }
+        e => format!("the inside is not a valid section: {e}"),
+    };
+    bad(kind, field, value, &why)
+}
+
 fn bad(kind: &str, field: &str, value: &str, reason: &str) -> SpecError {
     SpecError::BadValue {
         kind: kind.into(),
@@ -414,7 +431,8 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
             if ri >= ro {
                 return Err(bad(kind, "ri", ris, "the inner radius must be < ro"));
             }
-            Ok(tube(ro, ri)?)
+            circle(ro)?;
+            tube(ro, ri).map_err(|e| inside_error(kind, "ri", ris, e))
         }
         "box" => {
             let f = fields(kind, body, &["w", "h", "t", "tf", "tw"])?;
@@ -452,7 +470,16 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
                     "the flanges fill the height (2 tf ≥ h)",
                 ));
             }
-            Ok(hollow_rectangle(w, h, tf, tw)?)
+            // the outside's errors are those of a rectangle; the rest are
+            // the inside's (the box's one hole), named by the thinner wall
+            rectangle(w, h)?;
+            let field = match t {
+                Some(_) => "t",
+                None if 1.0 - 2.0 * tw / w < 1.0 - 2.0 * tf / h => "tw",
+                None => "tf",
+            };
+            let value = get(kind, &f, field)?;
+            hollow_rectangle(w, h, tf, tw).map_err(|e| inside_error(kind, field, value, e))
         }
         "triangle" => {
             let f = fields(kind, body, &["a"])?;
@@ -549,20 +576,26 @@ pub fn read_section_file(path: &std::path::Path) -> Result<Section, SpecError> {
     parse_section_toml(&text, &p)
 }
 
-/// One closed chain from `vertices` or `[[piece]]`; `at` names it in errors
-/// ("" for the outer boundary, "hole[k]." for a hole).
+/// One closed chain from `vertices` or `[[piece]]` of the section file
+/// `origin`; `at` names it in errors ("" for the outer boundary, "hole[k]."
+/// for a hole); `kind` prefixes the field errors.
 fn chain(
     kind: &str,
     at: &str,
-    name: &str,
+    origin: &str,
     vertices: Option<Vec<[f64; 2]>>,
     pieces: Option<Vec<FilePiece>>,
 ) -> Result<Section, SpecError> {
+    // geometry errors name the file and the curve ("hole[2]: boundary is
+    // self-intersecting near …")
     let geo = |e: GeometryError| -> SpecError {
-        if at.is_empty() {
-            SpecError::Geometry(e)
-        } else {
-            bad(kind, at.trim_end_matches('.'), "", &e.to_string())
+        SpecError::FileGeometry {
+            path: origin.into(),
+            at: match at.strip_suffix('.') {
+                Some(hole) => format!("{hole}: "),
+                None => String::new(),
+            },
+            error: e,
         }
     };
     match (vertices, pieces) {
@@ -614,7 +647,7 @@ fn chain(
                     }
                 }
             }
-            Section::new(name.to_string(), out).map_err(geo)
+            Section::new(origin.to_string(), out).map_err(geo)
         }
         (Some(_), Some(_)) => Err(bad(
             kind,
@@ -635,7 +668,7 @@ pub fn parse_section_toml(text: &str, origin: &str) -> Result<Section, SpecError
         path: origin.into(),
         message: e.message().replace('\n', " ") + &span_hint(text, e.span()),
     })?;
-    let kind = format!("file {origin}");
+    let kind = format!("section file `{origin}`");
     let mut sec = chain(&kind, "", origin, file.vertices, file.piece)?;
     if let Some(holes) = file.hole {
         let hs = holes
@@ -643,7 +676,12 @@ pub fn parse_section_toml(text: &str, origin: &str) -> Result<Section, SpecError
             .enumerate()
             .map(|(k, h)| chain(&kind, &format!("hole[{k}]."), origin, h.vertices, h.piece))
             .collect::<Result<Vec<_>, _>>()?;
-        sec = Section::with_holes(sec, hs)?;
+        // the placement errors name the holes as hole[k] themselves
+        sec = Section::with_holes(sec, hs).map_err(|e| SpecError::FileGeometry {
+            path: origin.into(),
+            at: String::new(),
+            error: e,
+        })?;
     }
     if let Some(n) = file.name {
         sec.name = n;

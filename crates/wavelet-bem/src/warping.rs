@@ -61,11 +61,14 @@ use std::f64::consts::PI;
 pub struct Warping {
     /// shear centre x_S (absolute coordinates)
     pub shear_centre: V2,
-    /// warping constant Γ = ∫ ω_n² dA about the shear centre
+    /// warping constant Γ = ∫ ω_n² dA about the shear centre (as computed:
+    /// where ω vanishes, circles and concentric tubes, round-off can make it
+    /// slightly negative, e.g. −4e-33; [`Warping::reported`] makes it 0)
     pub warping_constant: f64,
     /// ∫ X ω dA, ∫ Y ω dA with ω about the centroid (X = x − x₀)
     pub product_integrals: V2,
-    /// ∫ ω₀² dA, ω₀ the normalised warping function about the centroid
+    /// ∫ ω₀² dA, ω₀ the normalised warping function about the centroid (as
+    /// computed, like `warping_constant`)
     pub centroidal_constant: f64,
     /// ω₀ on every curve (outer first): the normalised warping function about
     /// the centroid as a trigonometric polynomial in the curve's parameter
@@ -74,6 +77,24 @@ pub struct Warping {
     pub centroid: V2,
     /// number of quadrature nodes per curve
     pub nodes: usize,
+}
+
+/// An integral of a square as reported: max(x, 0). A negative finite value
+/// can only be round-off (of a vanishing ω: Γ of the circle came out as
+/// −4.3e-33); a non-finite one is kept, to be flagged.
+pub fn nonnegative(x: f64) -> f64 {
+    if x < 0.0 && x.is_finite() { 0.0 } else { x }
+}
+
+impl Warping {
+    /// The outputs as reported: Γ and the centroidal constant, integrals of
+    /// squares, through [`nonnegative`]. The error estimates use the
+    /// values as computed (their differences measure the convergence).
+    pub fn reported(mut self) -> Warping {
+        self.warping_constant = nonnegative(self.warping_constant);
+        self.centroidal_constant = nonnegative(self.centroidal_constant);
+        self
+    }
 }
 
 /// One sample of ω along a boundary curve.

@@ -249,6 +249,80 @@ to = [0.0, 0.0]
     assert!(e.to_string().contains("bad.toml"), "{e}");
 }
 
+/// Geometry errors of a section file name the file, and its holes as the
+/// field errors do (`hole[k]`, 0-based, the `[[hole]]` tables in order);
+/// the inside of a built-in tube or box is named by its wall field instead.
+#[test]
+fn geometry_errors_name_the_file_and_the_hole() {
+    let square = "vertices = [[0, 0], [1, 0], [1, 1], [0, 1]]\n";
+    let inner = "[[hole]]\nvertices = [[0.2, 0.2], [0.4, 0.2], [0.4, 0.4], [0.2, 0.4]]\n";
+    let msg = |text: &str| {
+        let e = parse_section_toml(text, "dir/x.toml").unwrap_err();
+        assert!(matches!(e, SpecError::FileGeometry { .. }), "{e:?}");
+        e.to_string()
+    };
+    // the outer boundary itself
+    assert_eq!(
+        msg("vertices = [[0, 0], [1, 1], [1, 0], [0, 1]]"),
+        "section file `dir/x.toml`: invalid section geometry: boundary is self-intersecting near (0.500000, 0.500000)"
+    );
+    // the second hole lies outside: hole[1]
+    let outside = "[[hole]]\nvertices = [[2, 2], [3, 2], [3, 3]]\n";
+    assert_eq!(
+        msg(&format!("{square}{inner}{outside}")),
+        "section file `dir/x.toml`: invalid section geometry: hole[1] lies outside the outer boundary"
+    );
+    // crossing the outer boundary, at a point where the two meet
+    let crossing = "[[hole]]\nvertices = [[0.5, 0.5], [1.5, 0.5], [1.5, 0.7], [0.5, 0.7]]\n";
+    let m = msg(&format!("{square}{crossing}"));
+    assert!(
+        m.starts_with("section file `dir/x.toml`: invalid section geometry: hole[0] touches or crosses the outer boundary near (1.000000, 0.")
+            && (m.ends_with("0.500000)") || m.ends_with("0.700000)")),
+        "{m}"
+    );
+    // two holes overlapping
+    let overlapping = "[[hole]]\nvertices = [[0.3, 0.3], [0.6, 0.3], [0.6, 0.6], [0.3, 0.6]]\n";
+    assert_eq!(
+        msg(&format!("{square}{inner}{overlapping}")),
+        "section file `dir/x.toml`: invalid section geometry: hole[0] and hole[1] overlap or touch"
+    );
+    // a hole's own geometry: the curve is named first
+    let bow_tie = "[[hole]]\nvertices = [[0.2, 0.2], [0.4, 0.4], [0.4, 0.2], [0.2, 0.4]]\n";
+    assert_eq!(
+        msg(&format!("{square}{inner}{bow_tie}")),
+        "section file `dir/x.toml`: invalid section geometry: hole[1]: boundary is self-intersecting near (0.300000, 0.300000)"
+    );
+    // field errors name the file the same way
+    let e = parse_section_toml("[[piece]]\nkind = \"spline\"\n", "dir/x.toml").unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("section file `dir/x.toml`: bad value `spline` for field `piece[0].kind`"),
+        "{e}"
+    );
+    // built-ins: the inside of a box is named by its wall, not as hole[0]
+    let m = parse_spec("box:w=1,h=1,t=1e-17").unwrap_err().to_string();
+    assert!(
+        m.starts_with("box: bad value `1e-17` for field `t`: the wall is too thin")
+            && m.contains("the inside touches the outside near")
+            && !m.contains("hole"),
+        "{m}"
+    );
+    let m = parse_spec("box:w=1,h=1,tf=0.1,tw=0.4999999999999")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        m.starts_with(
+            "box: bad value `0.4999999999999` for field `tw`: the inside is not a valid section"
+        ),
+        "{m}"
+    );
+    // the outside's errors stay those of a rectangle
+    let m = parse_spec("box:w=1,h=1e-200,tf=1e-201,tw=0.1")
+        .unwrap_err()
+        .to_string();
+    assert!(m.starts_with("invalid section geometry: only 2"), "{m}");
+}
+
 #[test]
 fn graded_nodes_keep_relative_precision_at_corners() {
     let sq = sections::rectangle(1.0, 1.0).unwrap();

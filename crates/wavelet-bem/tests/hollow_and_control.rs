@@ -132,7 +132,7 @@ fn hole_errors_are_named() {
         .translated([3.0, 0.0])
         .unwrap();
     let e = geometry::Section::with_holes(outer.clone(), vec![far]).unwrap_err();
-    assert!(e.to_string().contains("hole 1 lies outside"), "{e}");
+    assert!(e.to_string().contains("hole[0] lies outside"), "{e}");
     let touching = sections::circle(0.5)
         .unwrap()
         .translated([0.6, 0.0])
@@ -145,7 +145,7 @@ fn hole_errors_are_named() {
         .translated([0.4, 0.0])
         .unwrap();
     let e = geometry::Section::with_holes(outer, vec![a, b]).unwrap_err();
-    assert!(e.to_string().contains("holes 1 and 2 overlap"), "{e}");
+    assert!(e.to_string().contains("hole[0] and hole[1] overlap"), "{e}");
     // the oversampled Shannon method handles holes: the tube is exact
     let s = sections::tube(1.0, 0.5).unwrap();
     let j = solve(&s, &opts(Method::Shannon, 64))
@@ -153,6 +153,46 @@ fn hole_errors_are_named() {
         .torsional_rigidity;
     let exact = std::f64::consts::PI * (1.0 - 0.5f64.powi(4)) / 2.0;
     assert!((j / exact - 1.0).abs() < 1e-13, "Shannon tube J {j}");
+}
+
+/// A hole that crosses the outer boundary is reported at a point where the
+/// two boundaries actually meet (it said (1, 0), a corner of the square
+/// that is not on the hole, for crossings at (1, 0.5) and (1, 0.7)).
+#[test]
+fn a_crossing_hole_is_reported_where_the_boundaries_meet() {
+    let square = sections::polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]).unwrap();
+    let hole = sections::polygon(&[[0.5, 0.5], [1.5, 0.5], [1.5, 0.7], [0.5, 0.7]]).unwrap();
+    let e = geometry::Section::with_holes(square.clone(), vec![hole]).unwrap_err();
+    let GeometryError::HoleTouchesBoundary { near, .. } = e else {
+        panic!("{e:?}");
+    };
+    assert!(
+        near[0] == 1.0 && (near[1] == 0.5 || near[1] == 0.7),
+        "{near:?}"
+    );
+    // a hole touching the boundary without crossing it: the point of contact
+    let touching = sections::polygon(&[[0.25, 0.5], [1.0, 0.3], [0.75, 0.75]]).unwrap();
+    let e = geometry::Section::with_holes(square, vec![touching]).unwrap_err();
+    let GeometryError::HoleTouchesBoundary { near, .. } = e else {
+        panic!("{e:?}");
+    };
+    assert_eq!(near, [1.0, 0.3]);
+    // a circular hole through the side x = 1 of a 2 × 2 square centred at
+    // the origin: on the side, near y = ±√(0.5² − 0.4²) = ±0.3 (the circle
+    // is checked as an inscribed polygon of 48 chords)
+    let outer = sections::rectangle(2.0, 2.0).unwrap();
+    let disc = sections::circle(0.5)
+        .unwrap()
+        .translated([0.6, 0.0])
+        .unwrap();
+    let e = geometry::Section::with_holes(outer, vec![disc]).unwrap_err();
+    let GeometryError::HoleTouchesBoundary { near, .. } = e else {
+        panic!("{e:?}");
+    };
+    assert!(
+        (near[0] - 1.0).abs() < 1e-15 && (near[1].abs() - 0.3).abs() < 1e-2,
+        "{near:?}"
+    );
 }
 
 /// Every controlled result is either within (a modest multiple of) its
@@ -245,7 +285,7 @@ vertices = [[0.1, 0.1], [1.9, 0.1], [1.9, 0.9], [0.1, 0.9], [0.1, 0.1]]
         boxed
             .notes
             .iter()
-            .any(|n| n.starts_with("hole 1: vertex 5 repeats vertex 1")),
+            .any(|n| n.starts_with("hole[0]: vertex 5 repeats vertex 1")),
         "{:?}",
         boxed.notes
     );

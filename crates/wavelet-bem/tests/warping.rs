@@ -196,6 +196,55 @@ fn hollow_sections_galerkin_and_nystrom_agree() {
     assert!(g.warping_constant > 0.0);
 }
 
+/// Γ = ∫ ω_n² dA of the circle and the concentric tube, where ω vanishes, is
+/// round-off: the controlled result reports max(Γ, 0) (the circle's came out
+/// as −4.3e-33), at every level too, while the Γ estimate, measured against
+/// the floor 10⁻⁶ I_p²/A, still uses the computed values and converges.
+#[test]
+fn a_vanishing_warping_constant_is_never_reported_negative() {
+    use tecon_wavelet_bem::warping::nonnegative;
+    for sec in [
+        sections::circle(1.0).unwrap(),
+        sections::tube(1.0, 0.6).unwrap(),
+    ] {
+        // the CLI's starting options
+        let o = Options {
+            n: 8,
+            ..Options::default()
+        };
+        let c = solve_to_tolerance(&sec, &o, 1e-8, 4096).unwrap();
+        let raw = c.solution.warping();
+        let scale = sec.polar_moment().powi(2) / sec.area;
+        assert!(raw.warping_constant.abs() < 1e-13 * scale, "{}", sec.name);
+        assert_eq!(c.warping.warping_constant, raw.warping_constant.max(0.0));
+        assert_eq!(
+            c.warping.centroidal_constant,
+            raw.centroidal_constant.max(0.0)
+        );
+        for l in &c.levels {
+            assert!(l.warping_constant.is_none_or(|g| g >= 0.0), "{l:?}");
+        }
+        assert!(c.converged, "{}: {:?}", sec.name, c.warnings);
+        assert!(
+            c.warping_error.is_finite() && c.warping_error <= 1e-8,
+            "{}: Γ estimate {}",
+            sec.name,
+            c.warping_error
+        );
+        // the mechanism, on a value made negative
+        let mut neg = raw.clone();
+        neg.warping_constant = -4.3e-33;
+        neg.centroidal_constant = -1e-40;
+        let r = neg.reported();
+        assert_eq!((r.warping_constant, r.centroidal_constant), (0.0, 0.0));
+    }
+    // a value that is not finite is kept, to be flagged
+    assert_eq!(nonnegative(-4.3e-33), 0.0);
+    assert_eq!(nonnegative(2.0e-3), 2.0e-3);
+    assert!(nonnegative(f64::NAN).is_nan());
+    assert_eq!(nonnegative(f64::NEG_INFINITY), f64::NEG_INFINITY);
+}
+
 #[test]
 fn channel_shear_centre_lies_on_the_axis_and_outside_the_web() {
     // web x ∈ [0, 0.1], flanges 0.1 thick to x = 1; symmetric about y = 0.5
