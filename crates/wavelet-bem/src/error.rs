@@ -220,6 +220,18 @@ pub enum SolveError {
         /// the polar moment of the section about its centroid
         polar_moment: f64,
     },
+    /// The boundary encloses, to round-off, no area (e.g. a tube whose
+    /// wall is thinner than the rounding of its radii).
+    #[error(
+        "the section encloses, to round-off, no area: A = {area:e} against a perimeter of \
+         {perimeter:e} (a wall thinner than the rounding of its coordinates?)"
+    )]
+    NoArea {
+        /// the enclosed area
+        area: f64,
+        /// the total length of the boundary curves
+        perimeter: f64,
+    },
     /// The dense system would not fit in memory (refused before allocating).
     #[error(
         "n = {n} per curve on {curves} boundary curve(s) is {unknowns} unknowns: the dense solve \

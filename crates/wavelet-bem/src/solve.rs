@@ -212,6 +212,14 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
     // normal range of double precision (measured: a circle of radius 1e-78
     // gave J in subnormals, 6e-12 off, 1e-100 gave 0, 1e77 overflowed)
     let ip = section.polar_moment();
+    // an area within round-off of the perimeter's square: no area at all
+    let (area, perimeter) = (section.area, section.total_perimeter());
+    if area.is_finite()
+        && perimeter.is_finite()
+        && area <= 64.0 * f64::EPSILON * perimeter * perimeter
+    {
+        return Err(SolveError::NoArea { area, perimeter });
+    }
     if !(POLAR_MOMENT_RANGE.0..=POLAR_MOMENT_RANGE.1).contains(&ip) {
         return Err(SolveError::Scale { polar_moment: ip });
     }

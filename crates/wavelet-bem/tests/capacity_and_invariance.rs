@@ -323,3 +323,17 @@ fn a_largest_n_below_two_resolutions_is_refused_by_name() {
     }
     assert!(solve_to_tolerance(&sec, &Options::default(), 1e-8, 128).is_ok());
 }
+
+/// A tube whose wall is below the rounding of its radii encloses no area
+/// to round-off: the error says so (it was reported as a polar moment
+/// out of range, I_p = −4.4e-16).
+#[test]
+fn a_wall_below_round_off_is_said_to_enclose_no_area() {
+    let sec = sections::parse_spec("tube:ro=1,ri=0.9999999999999999").unwrap();
+    let e = solve_to_tolerance(&sec, &Options::default(), 1e-8, 4096).unwrap_err();
+    assert!(
+        matches!(e, tecon_wavelet_bem::SolveError::NoArea { .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("no area"), "{e}");
+}
