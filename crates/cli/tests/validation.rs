@@ -52,53 +52,56 @@ fn run_case(dir: &Path, name: &str, text: &str, extra: &[&str]) -> Output {
 fn case_file_type_errors_name_the_key_path() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    // a string where a number belongs: the key, its table's index, the line
-    let text = edited(
-        "shrink_fit.toml",
-        "youngs_modulus = 207e9",
-        "youngs_modulus = \"207e9\"",
-    );
-    let o = run_case(d, "wrong_type.toml", &text, &[]);
-    refused(
-        d,
-        &o,
-        &[
-            "wrong_type.toml:33:",
-            "material[0].youngs_modulus: invalid type: string \"207e9\", expected f64",
-        ],
-    );
-    // a misspelt list-of-tables header: its [interface.joint] makes a table
-    // of `interface`, and the error names it and how to write it
-    let text = edited("shrink_fit.toml", "[[interface]]", "[[interfacee]]");
-    let o = run_case(d, "bad_table.toml", &text, &[]);
-    refused(
-        d,
-        &o,
-        &[
-            "bad_table.toml:50:",
-            "interface: invalid type: map, expected a sequence",
+    // (shipped case, its line, the edited line, file name, what the error says)
+    let cases: [(&str, &str, &str, &str, &[&str]); 4] = [
+        // a string where a number belongs: the key, its table's index, the line
+        (
+            "shrink_fit.toml",
+            "youngs_modulus = 207e9",
+            "youngs_modulus = \"207e9\"",
+            "wrong_type.toml",
+            &[
+                "wrong_type.toml:33:",
+                "material[0].youngs_modulus: invalid type: string \"207e9\", expected f64",
+            ],
+        ),
+        // a misspelt list-of-tables header: its [interface.joint] makes a
+        // table of `interface`, and the error names it and how to write it
+        (
+            "shrink_fit.toml",
             "[[interface]]",
-        ],
-    );
-    // a misspelt table on its own is an unknown key, named
-    let text = edited("shrink_fit.toml", "[output]", "[outputt]");
-    let o = run_case(d, "unknown.toml", &text, &[]);
-    refused(
-        d,
-        &o,
-        &["unknown.toml:", "outputt: unknown field `outputt`"],
-    );
-    // the staged (multilayer) case files go through the same loader
-    let text = edited("multilayer.toml", "seam = 120.0", "seam = \"120\"");
-    let o = run_case(d, "staged.toml", &text, &[]);
-    refused(
-        d,
-        &o,
-        &[
-            "staged.toml:",
-            "multilayer.layer[1].seam: invalid type: string",
-        ],
-    );
+            "[[interfacee]]",
+            "bad_table.toml",
+            &[
+                "bad_table.toml:50:",
+                "interface: invalid type: map, expected a sequence",
+                "[[interface]]",
+            ],
+        ),
+        // a misspelt table on its own is an unknown key, named
+        (
+            "shrink_fit.toml",
+            "[output]",
+            "[outputt]",
+            "unknown.toml",
+            &["unknown.toml:", "outputt: unknown field `outputt`"],
+        ),
+        // the staged (multilayer) case files go through the same loader
+        (
+            "multilayer.toml",
+            "seam = 120.0",
+            "seam = \"120\"",
+            "staged.toml",
+            &[
+                "staged.toml:",
+                "multilayer.layer[1].seam: invalid type: string",
+            ],
+        ),
+    ];
+    for (shipped, from, to, name, says) in cases {
+        let o = run_case(d, name, &edited(shipped, from, to), &[]);
+        refused(d, &o, says);
+    }
 }
 
 #[test]
@@ -350,15 +353,21 @@ fn mesh_refuses_generator_options_with_a_file() {
         &["mesh", "--msh", msh][..],
         &["mesh", "--preset", "2", "--fused-weld"],
     ] {
-        let o = tecon(d, args);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        std::fs::remove_dir_all(d.join("results")).unwrap();
+        mesh_ran(d, args);
     }
+}
+
+/// Runs `tecon mesh` with `args` in `d`, asserts it succeeded, and removes
+/// the folder it wrote.
+fn mesh_ran(d: &Path, args: &[&str]) {
+    let o = tecon(d, args);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    std::fs::remove_dir_all(d.join("results")).unwrap();
 }
 
 #[test]
@@ -381,14 +390,7 @@ fn mesh_help_lists_every_preset_form() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     for p in ["paper", "1", "g0", "x2", "t500"] {
-        let o = tecon(d, &["mesh", "--preset", p]);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "--preset {p}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        std::fs::remove_dir_all(d.join("results")).unwrap();
+        mesh_ran(d, &["mesh", "--preset", p]);
     }
 }
 
@@ -399,20 +401,22 @@ fn a_vacuum_inside_explains_the_free_layer() {
     // (the solver's own advice, a support, cannot be followed here)
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
+    let vessel = |p: &str, extra: &[&str]| {
+        let mut args = vec![
+            "vessel",
+            "--mesh",
+            "paper",
+            "--times",
+            "60,72000",
+            "--quiet",
+            "--pressure",
+            p,
+        ];
+        args.extend_from_slice(extra);
+        tecon(d, &args)
+    };
     for (p, when) in [("-1e6", "the pressure alone"), ("-1e9", "t = 72000 s")] {
-        let o = tecon(
-            d,
-            &[
-                "vessel",
-                "--mesh",
-                "paper",
-                "--times",
-                "60,72000",
-                "--quiet",
-                "--pressure",
-                p,
-            ],
-        );
+        let o = vessel(p, &[]);
         refused(
             d,
             &o,
@@ -428,21 +432,7 @@ fn a_vacuum_inside_explains_the_free_layer() {
         );
     }
     // the advice holds: bonded, the same vacuum runs
-    let o = tecon(
-        d,
-        &[
-            "vessel",
-            "--mesh",
-            "paper",
-            "--times",
-            "60,72000",
-            "--quiet",
-            "--pressure",
-            "-1e6",
-            "--interface",
-            "bonded",
-        ],
-    );
+    let o = vessel("-1e6", &["--interface", "bonded"]);
     assert_eq!(
         o.status.code(),
         Some(0),
