@@ -204,7 +204,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
     for (i, v) in interior.iter().enumerate() {
         if v.round_off > args.tol {
             warnings.push(format!(
-                "point {} ({:.6}, {:.6}) is {:.1e} from the boundary: its stresses carry round-off of up to about {:.1e} of the section's stress scale (ε × size / distance), more than --tol {:.1e}",
+                "point {} ({}, {}) is {:.1e} from the boundary: its stresses carry round-off of up to about {:.1e} of the section's stress scale (ε × size / distance), more than --tol {:.1e}",
                 i + 1,
                 v.x[0],
                 v.x[1],
@@ -495,7 +495,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         // the round-off of its stresses (the JSON's `distance`, `round_off`)
         for v in &interior {
             say!(
-                "point ({:.6}, {:.6}): u = {:.12e}  τ_xz = {:.12e}  τ_yz = {:.12e}  (distance {:.1e}, round-off ≤ {:.1e})",
+                "point ({}, {}): u = {:.12e}  τ_xz = {:.12e}  τ_yz = {:.12e}  (distance {:.1e}, round-off ≤ {:.1e})",
                 v.x[0],
                 v.x[1],
                 v.u,

@@ -134,7 +134,7 @@ fn out_dir_has_csv_and_plots() {
         "0.5,0.25;0,0",
     ]);
     assert!(ok, "{err}");
-    assert!(out.contains("torsional rigidity") && out.contains("point (0.500000, 0.250000)"));
+    assert!(out.contains("torsional rigidity") && out.contains("point (0.5, 0.25)"));
     for f in [
         "boundary.csv",
         "boundary_shear.svg",

@@ -197,7 +197,7 @@ pub enum SolveError {
     #[error("not supported: {0}")]
     Unsupported(String),
     /// An evaluation point is not inside the section.
-    #[error("point {index} ({:.6}, {:.6}) is {where_} the section", point[0], point[1])]
+    #[error("point {index} ({}, {}) is {where_} the section", point[0], point[1])]
     PointOutside {
         /// 1-based index of the point
         index: usize,
