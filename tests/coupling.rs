@@ -483,3 +483,29 @@ fn two_way_with_a_constant_conductance_runs_one_way_with_a_note() {
         "{notes:?}"
     );
 }
+
+/// The stress-free state is the initial field as given: a temperature held
+/// on a boundary is a load from t = 0⁺, not part of the reference. The
+/// duplex tube starts at 20 °C everywhere with its bore held at 100 °C;
+/// without `reference_temperature = 20.0` its linear triangles along the
+/// bore used to take the held 100 °C into their reference, and the contact
+/// pressure came out 13 % low (14.26 MPa against 16.47 MPa).
+#[test]
+fn a_held_boundary_temperature_is_not_part_of_the_stress_free_state() {
+    let text = duplex_edited("reference_temperature = 20.0", "");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("duplex_no_reference.toml");
+    std::fs::write(&path, text).unwrap();
+    let pressure = |c: &case::Case| {
+        let res = case::execute(c, &cases_dir()).unwrap();
+        res.summary["times"][0]["interfaces"]["tube_in_tube_out"]["contact_pressure_mean"]
+            .as_f64()
+            .unwrap()
+    };
+    let given = pressure(&case::load(cases_dir().join("duplex_tube.toml")).unwrap());
+    let initial = pressure(&case::load(&path).unwrap());
+    assert!(
+        (initial / given - 1.0).abs() < 1e-9,
+        "reference from the initial field {initial:.6e} Pa, given 20 °C {given:.6e} Pa"
+    );
+}
