@@ -108,10 +108,15 @@ fn weld_corner_note(run: &VesselRun, r: &YieldReport) -> Option<String> {
         } else {
             ("peak of region", "lies")
         };
+        let d = &run.options.data;
+        // the axial stress of a weld that cannot shorten (ε_zz = 0) as it
+        // cools from the weld temperature: E α ΔT
+        let axial = d.youngs_modulus * d.expansion * (d.weld_temperature - d.ambient);
         format!(
-            "the {which} {} {verb} at or within one element of a weld corner (the weld edge at θ = {:.2}°), where the elastic stress is singular: the peak grows as the mesh is refined (the real weld yields locally there, which an elastic analysis cannot resolve); the mean prestress and the stress at the weld plane are mesh-converged",
+            "the {which} {} {verb} at or within one element of a weld corner (the weld edge at θ = {:.2}°), where the elastic stress is singular: such a peak grows as the mesh is refined (the real weld yields locally there, which an elastic analysis cannot resolve). The weld's von Mises stress is high everywhere, not only at the corner: in plane strain the weld cannot shorten along its axis as it cools, so its axial stress is about E α ΔT = {:.1} GPa, far above any yield stress (a real weld yields along its axis). The mean hoop prestress converges with the mesh; the hoop stress at the weld plane needs fine meshes (docs/vessel.md §9: within about 1 % on the default g0, 29 % off on the linear level 2, and coarser meshes worse)",
             at.join(" and "),
-            theta.to_degrees()
+            theta.to_degrees(),
+            axial / 1e9
         )
     })
 }
