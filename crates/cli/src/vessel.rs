@@ -461,7 +461,11 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         "coupling parameter δ = {delta:.4} at ambient ({:.3} at the weld temperature): δ ≪ 1, so neglecting the thermoelastic coupling term is justified\n",
         f("/coupling_delta_at_weld_temperature")
     );
-    s += "final prestress (circumferential mean of σ_θθ, MPa):      FE   analytical(δ=αΔTw/2π, plane strain)\n";
+    // the consistent two-cylinder model first: the FE converges to it; the
+    // issue's interference αΔTw/2π beside it, as published
+    s += "final prestress (circumferential mean of σ_θθ, MPa):\n";
+    s +=
+        "                      FE   two cylinders, δ = (1+ν)αΔTw/2π   δ = αΔTw/2π (plane strain)\n";
     for (k, label) in [
         ("core_inner", "core inner"),
         ("core_outer", "core outer"),
@@ -469,13 +473,16 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         ("layer_outer", "layer outer"),
     ] {
         s += &format!(
-            "  {label:<12} {:>10.2} {:>10.2}\n",
+            "  {label:<12} {:>9.4} {:>34.4} {:>28.4}\n",
             f(&format!("/final/hoop_mean/{k}")) / 1e6,
+            f(&format!(
+                "/analytical_variants/plane_strain_consistent/hoop/{k}"
+            )) / 1e6,
             f(&format!("/analytical/hoop/{k}")) / 1e6
         );
     }
     s += &format!(
-        "contact pressure mean: FE {:.3} MPa, analytical {:.3} MPa (variants: plane stress {:.3}, plane-strain consistent {:.3})\n",
+        "contact pressure mean: FE {:.5} MPa, analytical (δ = αΔTw/2π) {:.5} MPa (variants: plane stress {:.5}, plane-strain consistent {:.5})\n",
         f("/final/contact_pressure_mean") / 1e6,
         f("/analytical/contact_pressure") / 1e6,
         f("/analytical_variants/plane_stress_classical/contact_pressure") / 1e6,
