@@ -266,6 +266,11 @@ pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
         collect_notes(s, "warnings", &mut warnings);
         collect_notes(s, "notes", &mut notes);
     }
+    // the run's own warnings are in its summary too: each once, in order
+    let mut seen = std::collections::HashSet::new();
+    warnings.retain(|w| seen.insert(w.clone()));
+    let mut seen = std::collections::HashSet::new();
+    notes.retain(|n| seen.insert(n.clone()));
     h += "<h2 id=\"warnings\">Warnings and notes</h2>\n";
     if warnings.is_empty() && notes.is_empty() {
         h += "<p>None.</p>\n";
@@ -428,7 +433,7 @@ mod tests {
         let d = tempfile::tempdir().unwrap();
         std::fs::write(
             d.path().join("summary.json"),
-            r#"{"final":{"contact_pressure_mean":35240.5},"notes":["a <note>"],"times":[1,10]}"#,
+            r#"{"final":{"contact_pressure_mean":35240.5},"notes":["a <note>"],"warnings":["above yield"],"times":[1,10]}"#,
         )
         .unwrap();
         std::fs::write(
@@ -450,6 +455,8 @@ mod tests {
         assert!(html.contains("<svg xmlns") && !html.contains("<?xml"));
         assert!(html.contains("<title>fig</title>"));
         assert!(html.contains("a &lt;note&gt;") && html.contains("above yield"));
+        // a warning both passed in and in the summary is shown once
+        assert_eq!(html.matches("⚠ above yield").count(), 1);
         assert!(html.contains("35240.5"));
         assert!(
             html.contains("<th>a, b</th>"),
