@@ -16,6 +16,12 @@ use crate::plot::{Axis, Figure, LegendAt, Line, OffScale, Panel, fmt_value};
 /// Width of the weld-zone panels, degrees.
 pub const WELD_ZONE_DEG: f64 = 20.0;
 
+/// Range of the weld panel of the interface and displacement figures (°):
+/// the lift-off under the weld and the slip it drives lie within 0–3°
+/// (the weld edge at 0.28°, the open zone to about 2.2° on the published
+/// case), which a 0–20° panel squeezed against its axis.
+pub const WELD_DETAIL_DEG: f64 = 3.0;
+
 /// Temperature around the layer at one time: (θ°, T °C) on its inner and outer surfaces.
 #[derive(Clone, Debug)]
 pub struct RingTemperature {
@@ -426,7 +432,7 @@ pub fn interface_pressure(rows: &[InterfaceRow], analytical: Option<(&str, f64)>
     Figure {
         title: "Core/layer interface after cooling: contact pressure".into(),
         panels: vec![
-            panel("weld zone", (0.0, WELD_ZONE_DEG), LegendAt::None),
+            panel("weld zone (0–3°)", (0.0, WELD_DETAIL_DEG), LegendAt::None),
             panel("half circumference", (0.0, 180.0), LegendAt::UpperRight),
         ],
         size: (1300, 600),
@@ -435,7 +441,8 @@ pub fn interface_pressure(rows: &[InterfaceRow], analytical: Option<(&str, f64)>
 
 /// Fig. 10: tangential displacement u_θ (µm) of the outer surface after
 /// cooling, sorted by θ, against the free shrinkage of the half weld
-/// (−κ α ΔT w/2, µm); weld zone beside the half circumference.
+/// (−κ α ΔT w/2, µm, κ = 1 + ν in plane strain, else 1); weld zone beside
+/// the half circumference.
 pub fn fig10(u_theta: &[(f64, f64)], free_shrinkage: f64) -> Figure {
     let panel = |title: &str, range: (f64, f64), legend: LegendAt| Panel {
         title: title.into(),
@@ -444,7 +451,7 @@ pub fn fig10(u_theta: &[(f64, f64)], free_shrinkage: f64) -> Figure {
         lines: vec![
             Line::solid("FE, outer surface", 0, u_theta.to_vec()),
             Line::dashed(
-                "free shrinkage of the half weld, −κ α ΔT w/2",
+                "free shrinkage of the half weld, −κ α ΔT w/2 (κ = 1 + ν in plane strain, else 1)",
                 1,
                 vec![(range.0, free_shrinkage), (range.1, free_shrinkage)],
             ),
@@ -455,7 +462,7 @@ pub fn fig10(u_theta: &[(f64, f64)], free_shrinkage: f64) -> Figure {
     Figure {
         title: "Tangential displacement of the outer surface after cooling".into(),
         panels: vec![
-            panel("weld zone", (0.0, WELD_ZONE_DEG), LegendAt::None),
+            panel("weld zone (0–3°)", (0.0, WELD_DETAIL_DEG), LegendAt::None),
             panel("half circumference", (0.0, 180.0), LegendAt::LowerRight),
         ],
         size: (1300, 600),
@@ -469,7 +476,7 @@ pub fn interface_slip(rows: &[InterfaceRow]) -> Figure {
     let panel = |title: &str, range: (f64, f64), legend: LegendAt| Panel {
         title: title.into(),
         x: Axis::linear("θ from the weld centre [°]").range(range.0, range.1),
-        y: Axis::linear("[µm]"),
+        y: Axis::linear("plastic slip, opening [µm]"),
         lines: vec![
             Line::solid("plastic slip g_s", 0, slip.clone()),
             Line::dashed("opening ⟦u⟧_n", 1, open.clone()),
@@ -480,7 +487,7 @@ pub fn interface_slip(rows: &[InterfaceRow]) -> Figure {
     Figure {
         title: "Core/layer interface after cooling: slip and opening".into(),
         panels: vec![
-            panel("weld zone", (0.0, WELD_ZONE_DEG), LegendAt::None),
+            panel("weld zone (0–3°)", (0.0, WELD_DETAIL_DEG), LegendAt::None),
             panel("half circumference", (0.0, 180.0), LegendAt::UpperRight),
         ],
         size: (1300, 600),
