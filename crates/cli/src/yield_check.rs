@@ -116,7 +116,8 @@ impl YieldReport {
                     p[0],
                     p[1],
                     p[0].hypot(p[1]),
-                    p[1].atan2(p[0]).to_degrees()
+                    // in [0°, 360°), as the seam angles are given
+                    p[1].atan2(p[0]).to_degrees().rem_euclid(360.0)
                 )
             } else {
                 format!("(x, y) = ({:.4e}, {:.4e}) m", p[0], p[1])
