@@ -79,6 +79,9 @@ pub struct ColouredPath {
     pub points: Vec<(f64, f64, f64)>,
     /// join the last point to the first
     pub closed: bool,
+    /// further paths (e.g. the holes of a section), each closed, drawn on
+    /// the same axes with the same colour scale as `points`; empty for one
+    pub more_closed: Vec<Vec<(f64, f64, f64)>>,
 }
 
 /// Ten distinguishable colours (one per time or per quantity).
@@ -737,22 +740,19 @@ impl ColouredPath {
         path: &Path,
         size: (u32, u32),
     ) -> Result<(), PlotError> {
-        let ((x0, x1), (y0, y1)) = bounds(self.points.iter().map(|p| (p.0, p.1)))
+        let all = || self.points.iter().chain(self.more_closed.iter().flatten());
+        let ((x0, x1), (y0, y1)) = bounds(all().map(|p| (p.0, p.1)))
             .ok_or_else(|| PlotError::Empty(self.title.clone()))?;
         // equal aspect ratio
         let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
         let span =
             (x1 - x0).max((y1 - y0) * (size.0 as f64 - 160.0) / (size.1 as f64 - 60.0)) * 0.5;
         let yspan = span * (size.1 as f64 - 60.0) / (size.0 as f64 - 160.0);
-        let vmax = self
-            .points
-            .iter()
+        let vmax = all()
             .map(|p| p.2)
             .filter(|v| v.is_finite())
             .fold(0.0f64, f64::max);
-        let vmin = self
-            .points
-            .iter()
+        let vmin = all()
             .map(|p| p.2)
             .filter(|v| v.is_finite())
             .fold(vmax, f64::min);
@@ -779,18 +779,22 @@ impl ColouredPath {
             .label_style(("sans-serif", 12))
             .draw()
             .map_err(|e| err(path, e))?;
-        let m = self.points.len();
-        let segs = if self.closed { m } else { m.saturating_sub(1) };
-        chart
-            .draw_series((0..segs).map(|k| {
-                let a = self.points[k];
-                let b = self.points[(k + 1) % m];
-                PathElement::new(
-                    vec![(a.0, a.1), (b.0, b.1)],
-                    colour_map(scale(0.5 * (a.2 + b.2))).stroke_width(4),
-                )
-            }))
-            .map_err(|e| err(path, e))?;
+        let paths = std::iter::once((&self.points, self.closed))
+            .chain(self.more_closed.iter().map(|p| (p, true)));
+        for (pts, closed) in paths {
+            let m = pts.len();
+            let segs = if closed { m } else { m.saturating_sub(1) };
+            chart
+                .draw_series((0..segs).map(|k| {
+                    let a = pts[k];
+                    let b = pts[(k + 1) % m];
+                    PathElement::new(
+                        vec![(a.0, a.1), (b.0, b.1)],
+                        colour_map(scale(0.5 * (a.2 + b.2))).stroke_width(4),
+                    )
+                }))
+                .map_err(|e| err(path, e))?;
+        }
         // colour bar
         let mut cb = ChartBuilder::on(&bar)
             .margin_top(40)

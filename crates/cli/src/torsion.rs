@@ -259,13 +259,18 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         let mut f = std::fs::File::create(&csv)
             .map_err(|e| format!("--out: cannot write `{}`: {e}", csv.display()))?;
         writeln!(f, "t,s,x,y,q,tau,curve")?;
-        for k in 0..sol.curve_count() {
-            let on_k = if k == 0 {
-                samples.clone()
-            } else {
-                sol.boundary_samples_on(k, m)
-            };
-            for s in &on_k {
+        // every curve: 0 the outer boundary, k ≥ 1 hole[k − 1] (arc length from each curve's start)
+        let per_curve: Vec<_> = (0..sol.curve_count())
+            .map(|k| {
+                if k == 0 {
+                    samples.clone()
+                } else {
+                    sol.boundary_samples_on(k, m)
+                }
+            })
+            .collect();
+        for (k, on_k) in per_curve.iter().enumerate() {
+            for s in on_k {
                 writeln!(
                     f,
                     "{:.16e},{:.16e},{:.16e},{:.16e},{:.16e},{:.16e},{k}",
@@ -326,15 +331,20 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         writeln!(f, "n,{n},,")?;
         writeln!(f, "converged,{},,", ctl.converged)?;
         written.push(rcsv);
+        // the figures draw every curve (the holes too) on one colour scale
+        let wpath = |k: usize| -> Vec<(f64, f64, f64)> {
+            wsamples
+                .iter()
+                .filter(|s| s.curve == k)
+                .map(|s| (s.x[0], s.x[1], s.omega))
+                .collect()
+        };
         let cpw = ColouredPath {
             title: format!("{}: warping function ω_n on the boundary", section.name),
             value_label: "ω_n [length²]".into(),
-            points: wsamples
-                .iter()
-                .filter(|s| s.curve == 0)
-                .map(|s| (s.x[0], s.x[1], s.omega))
-                .collect(),
+            points: wpath(0),
             closed: true,
+            more_closed: (1..sol.curve_count()).map(wpath).collect(),
         };
         let (a, b) = cpw.write_svg_png(&dir.join("section_warping"))?;
         written.push(a);
@@ -343,10 +353,19 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
             title: format!("Boundary shear stress, {}", section.name),
             x_label: "arc length s [length]".into(),
             y_label: "τ/(Gθ) = |∂u/∂n| [length]".into(),
-            series: vec![Series {
-                label: format!("{} n={}", method, n),
-                points: samples.iter().map(|s| (s.s, s.q.abs())).collect(),
-            }],
+            // one series per curve; a single curve keeps its plain label
+            series: per_curve
+                .iter()
+                .enumerate()
+                .map(|(k, on_k)| Series {
+                    label: match (per_curve.len(), k) {
+                        (1, _) => format!("{} n={}", method, n),
+                        (_, 0) => format!("outer boundary, {} n={}", method, n),
+                        _ => format!("hole[{}], {} n={}", k - 1, method, n),
+                    },
+                    points: on_k.iter().map(|s| (s.s, s.q.abs())).collect(),
+                })
+                .collect(),
         };
         let (a, b) = lp.write_svg_png(&dir.join("boundary_shear"))?;
         written.push(a);
@@ -359,6 +378,10 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 .map(|s| (s.x[0], s.x[1], s.q.abs()))
                 .collect(),
             closed: true,
+            more_closed: per_curve[1..]
+                .iter()
+                .map(|on_k| on_k.iter().map(|s| (s.x[0], s.x[1], s.q.abs())).collect())
+                .collect(),
         };
         let (a, b) = cp.write_svg_png(&dir.join("section_shear"))?;
         written.push(a);

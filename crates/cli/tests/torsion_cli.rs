@@ -620,3 +620,50 @@ fn the_section_file_example_of_the_docs_runs() {
     );
     assert!(out_dir.join("report.html").exists());
 }
+
+/// The figures of a section with a hole draw the hole too (they showed
+/// only the outer boundary, curve 0): section_shear and section_warping
+/// draw one closed path per curve on one colour scale, boundary_shear one
+/// series per curve with a legend entry for the hole.
+#[test]
+fn figures_of_a_box_draw_the_hole() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let (ok, _, err) = tecon(&["--section", "box:w=2,h=1,t=0.1", "--out", d]);
+    assert!(ok, "{err}");
+    // samples per curve in boundary.csv: both curves are there
+    let csv = std::fs::read_to_string(dir.path().join("boundary.csv")).unwrap();
+    let mut per_curve = [0usize; 2];
+    for l in csv.lines().skip(1) {
+        per_curve[l.rsplit(',').next().unwrap().parse::<usize>().unwrap()] += 1;
+    }
+    assert!(per_curve[0] > 100 && per_curve[1] > 100, "{per_curve:?}");
+    // the coloured segments (stroke-width 4) of the section figures: a closed
+    // path through every sample of every curve, so one segment per sample
+    for (fig, csv) in [
+        ("section_shear", "boundary.csv"),
+        ("section_warping", "warping.csv"),
+    ] {
+        let svg = std::fs::read_to_string(dir.path().join(format!("{fig}.svg"))).unwrap();
+        let segments = svg
+            .lines()
+            .filter(|l| l.contains("<polyline") && l.contains("stroke-width=\"4\""))
+            .count();
+        let rows = std::fs::read_to_string(dir.path().join(csv))
+            .unwrap()
+            .lines()
+            .count()
+            - 1;
+        assert_eq!(segments, rows, "{fig}: segments against {csv} rows");
+        assert!(segments >= per_curve[0] + per_curve[1], "{fig}");
+    }
+    // boundary_shear: one series per curve, named in the legend
+    let svg = std::fs::read_to_string(dir.path().join("boundary_shear.svg")).unwrap();
+    assert!(svg.contains("outer boundary,") && svg.contains("hole[0],"));
+    // a single-curve section keeps its one plain series
+    let d = dir.path().join("circle");
+    let (ok, _, err) = tecon(&["--section", "circle:r=1", "--out", d.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let svg = std::fs::read_to_string(d.join("boundary_shear.svg")).unwrap();
+    assert!(!svg.contains("outer boundary") && !svg.contains("hole["));
+}
