@@ -347,7 +347,114 @@ const CONSTANT_TWO_WAY_NOTE: &str = "two-way coupling asked for, but no interfac
 /// follow on this thread. Each side computes exactly what it computes alone
 /// (the same numbers), and the run takes about the longer of the two instead
 /// of their sum.
+///
+/// Every output state's temperatures are checked against the bounds of the
+/// maximum principle ([`temperature_bound_violation`]); a state outside them
+/// adds a note.
 pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
+    let mut outcome = run_analysis(setup)?;
+    if let Some(v) = temperature_bound_violation(setup, &outcome.states) {
+        outcome.notes.push(v.note());
+    }
+    Ok(outcome)
+}
+
+/// The worst temperature of the output states outside the bounds of the
+/// maximum principle ([`tecon_thermal::ThermalModel::temperature_bounds`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundViolation {
+    /// How far the temperature lies outside the bound, K (positive).
+    pub excursion: f64,
+    /// The temperature, °C.
+    pub value: f64,
+    /// The bound it crosses, °C.
+    pub bound: f64,
+    /// True: below the lower bound; false: above the upper one.
+    pub below: bool,
+    /// Time of the state, s.
+    pub time: f64,
+    /// The node.
+    pub node: usize,
+    /// Position of the node, m.
+    pub position: [f64; 2],
+    /// The states come from a transient (false: a steady state).
+    pub transient: bool,
+}
+
+impl BoundViolation {
+    /// The warning for the notes.
+    pub fn note(&self) -> String {
+        let (side, of) = if self.below {
+            ("below", "lowest")
+        } else {
+            ("above", "highest")
+        };
+        let cause = if self.transient {
+            "the mesh or the time steps do not resolve the initial temperature jump (a discrete maximum-principle violation; a finer mesh near the jump, or smaller first time steps, removes it)"
+        } else {
+            "the mesh does not resolve the temperature field there (a discrete maximum-principle violation; a finer mesh there removes it)"
+        };
+        format!(
+            "temperature outside its physical bounds: {:.3} °C at t = {} s, node {} at (x, y) = ({:.6}, {:.6}) m, lies {:.3} K {side} {:.3} °C, the {of} of the initial temperatures, the convection ambients and the prescribed temperatures, which heat conduction without sources cannot leave: {cause}; the thermal stresses near there carry that error",
+            self.value,
+            self.time,
+            self.node,
+            self.position[0],
+            self.position[1],
+            self.excursion,
+            self.bound,
+        )
+    }
+}
+
+/// The worst nodal temperature of `states` outside the bounds of the
+/// maximum principle, by more than 10⁻⁶ of their range (at least 10⁻⁶ K);
+/// None when every temperature lies inside, without heat conduction, with
+/// the initial field held, or when the model has no bound (a prescribed
+/// heat flux into the body removes the upper bound, one out of it the
+/// lower).
+pub fn temperature_bound_violation(setup: &Setup<'_>, states: &[State]) -> Option<BoundViolation> {
+    let th = setup.thermal.as_ref()?;
+    let transient = match th.procedure {
+        Procedure::Held => return None,
+        Procedure::Steady => false,
+        Procedure::Transient { .. } => true,
+    };
+    let (lower, upper) = th.model.temperature_bounds()?;
+    let range = match (lower, upper) {
+        (Some(l), Some(u)) => u - l,
+        _ => 0.0,
+    };
+    let tol = 1e-6 * range.max(1.0);
+    let nodes = setup.mesh.nodes();
+    let mut worst: Option<BoundViolation> = None;
+    for s in states {
+        let Some(t) = &s.temperature else { continue };
+        for (i, &v) in t.iter().enumerate() {
+            let cand = [
+                lower.map(|l| (l - v, l, true)),
+                upper.map(|u| (v - u, u, false)),
+            ];
+            for (excursion, bound, below) in cand.into_iter().flatten() {
+                if excursion > tol && worst.as_ref().is_none_or(|w| excursion > w.excursion) {
+                    worst = Some(BoundViolation {
+                        excursion,
+                        value: v,
+                        bound,
+                        below,
+                        time: s.time,
+                        node: i,
+                        position: nodes[i],
+                        transient,
+                    });
+                }
+            }
+        }
+    }
+    worst
+}
+
+fn run_analysis(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     let n_out = match setup.thermal.as_ref().map(|t| &t.procedure) {
         Some(Procedure::Transient { times, .. }) => times.len(),
         _ => 1,

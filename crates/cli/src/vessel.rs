@@ -61,6 +61,10 @@ pub struct VesselRun {
     pub interfaces: Vec<String>,
     /// Two-way coupling statistics (None: one-way).
     pub coupling: Option<crate::driver::CouplingStats>,
+    /// The worst temperature outside the bounds of the maximum principle
+    /// (None: every temperature inside; otherwise the notes carry a
+    /// warning).
+    pub bound_violation: Option<driver::BoundViolation>,
 }
 
 /// The coupling parameter δ = (3λ + 2μ)² α² T₀ / ((λ + 2μ) ρ c) at absolute temperature T₀ (K).
@@ -95,9 +99,10 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     let case = crate::builtin::vessel_case(o, &mesh)?;
     setup::declare_interfaces(&case, &mut mesh)?;
     let tie = setup::tie(&case, &mesh)?;
-    let (outcome, pressure_only) = {
+    let (outcome, pressure_only, bound_violation) = {
         let p = setup::prepare(&case, &mesh, tie.as_ref())?;
         let outcome = driver::run(&p.setup).map_err(|e| free_layer(e, o.pressure))?;
+        let bound_violation = driver::temperature_bound_violation(&p.setup, &outcome.states);
         let alone = match o.pressure {
             Some(_) => Some(
                 driver::solve_mechanical(&p.setup, LoadFactors::FULL).map_err(|e| {
@@ -109,7 +114,7 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
             ),
             None => None,
         };
-        (outcome, alone)
+        (outcome, alone, bound_violation)
     };
     let mut results = Vec::new();
     let mut operating = None;
@@ -135,6 +140,7 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         newton: outcome.newton,
         interfaces: outcome.interfaces,
         coupling: outcome.coupling,
+        bound_violation,
     })
 }
 
@@ -354,6 +360,10 @@ pub fn summary(run: &VesselRun) -> Value {
             "heat_balance_max_rel_error": run.heat_balance,
             "steps": run.thermal_steps,
             "output_times": run.results.iter().map(|r| r.time).collect::<Vec<_>>(),
+            // K by which the worst nodal temperature of the output states
+            // lies outside [min, max] of the initial temperatures, the
+            // ambient and any prescribed temperature (0: none, and no note)
+            "bound_violation": run.bound_violation.as_ref().map_or(0.0, |b| b.excursion),
         },
         "coupling_delta": coupling_delta(&run.options.data, run.options.data.ambient + 273.15),
         "coupling_delta_at_weld_temperature": coupling_delta(&run.options.data, run.options.data.weld_temperature + 273.15),
@@ -400,7 +410,17 @@ pub fn summary(run: &VesselRun) -> Value {
             "contact_pressure_mean": contact_pressure_mean(run, last),
             "hoop_force_balance": f,
             "hoop_force_balance_relative": if fa > 0.0 { f / fa } else { 0.0 },
-            "interface_points": { "open": open, "slip": slip, "total": last.interface.len() },
+            // every integration point of every interface element: a node
+            // shared by two elements (nodal integration) counts twice
+            "interface_points": {
+                "open": open,
+                "slip": slip,
+                "total": last.interface.len(),
+                "counted": "integration points of the interface elements (with nodal integration a node shared by two elements counts twice); interface_nodes counts the rows of interface_final.csv",
+            },
+            // the rows of interface_final.csv: coinciding points merged, the
+            // more open status kept (open before slip before stick)
+            "interface_nodes": interface_nodes(&last.interface),
             "max_temperature_change": temperature(last).iter().map(|t| (t - run.options.data.ambient).abs()).fold(0.0, f64::max),
             "zz_error": {
                 "eta": last.stress.error.eta,
@@ -493,6 +513,15 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         f("/final/hoop_force_balance"),
         f("/final/hoop_force_balance_relative")
     );
+    if let (Some(n), Some(p)) = (
+        v.pointer("/final/interface_nodes"),
+        v.pointer("/final/interface_points"),
+    ) {
+        s += &format!(
+            "final interface: {} positions in interface_final.csv ({} open, {} slip), from {} integration points of the interface elements ({} open, {} slip; with nodal integration a node shared by two elements counts twice there, once in the table, with the more open status)\n",
+            n["total"], n["open"], n["slip"], p["total"], p["open"], p["slip"]
+        );
+    }
     let ratio_ps = f("/analytical_variants/plane_strain_consistent/contact_pressure")
         / f("/analytical_variants/plane_stress_classical/contact_pressure");
     s += &format!(
@@ -560,6 +589,21 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         s += &format!("note: {n}\n");
     }
     s
+}
+
+/// Open, slip, stick and total counts of the interface positions, as the
+/// rows of `interface_final.csv` count them ([`crate::figures::interface_rows`]:
+/// coinciding points of one interface merged, the more open status kept).
+fn interface_nodes(points: &[tecon_elastic::InterfacePointResult]) -> Value {
+    let rows = crate::figures::interface_rows(points, [0.0, 0.0]);
+    let count = |code: u8| rows.iter().filter(|r| r.status == code).count();
+    json!({
+        "open": count(0),
+        "slip": count(2),
+        "stick": count(1),
+        "total": rows.len(),
+        "counted": "rows of interface_final.csv: interface positions, the points of neighbouring elements at one node merged (values averaged, the more open status kept: open before slip before stick)",
+    })
 }
 
 /// Nodal temperatures of a vessel state (a vessel state always has them).

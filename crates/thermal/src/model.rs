@@ -307,6 +307,48 @@ impl<'m> ThermalModel<'m> {
         self
     }
 
+    /// The bounds of the maximum principle: with conduction, interface
+    /// exchange (`h_c ≥ 0`), convection and prescribed temperatures only,
+    /// no temperature can leave `[lower, upper]`, the smallest and largest
+    /// of the initial temperatures (every element's region value and every
+    /// per-node override: the nodal initial field lies between them), the
+    /// convection ambients and the prescribed temperatures. A prescribed
+    /// heat flux into the body removes the upper bound (`None`), one out of
+    /// it the lower. `None` without an initial temperature (or with a region
+    /// that has none).
+    pub fn temperature_bounds(&self) -> Option<(Option<f64>, Option<f64>)> {
+        if !self.has_initial {
+            return None;
+        }
+        let names = self.mesh.region_names();
+        let mut used = vec![false; names.len()];
+        for &r in self.mesh.element_regions() {
+            used[r] = true;
+        }
+        let mut values = Vec::new();
+        for (name, _) in names.iter().zip(&used).filter(|(_, u)| **u) {
+            let given = self.initial.regions.iter().find(|(n, _)| n == name);
+            values.push(given.map(|(_, v)| *v).or(self.initial.default)?);
+        }
+        values.extend(self.initial.nodes.iter().map(|(_, v)| *v));
+        values.extend(self.node_temperatures.iter().map(|(_, v)| *v));
+        values.extend(self.single_nodes.iter().map(|(_, v)| *v));
+        let (mut heated, mut cooled) = (false, false);
+        for (_, bc) in &self.edge_bcs {
+            match *bc {
+                EdgeBc::Convection { ambient, .. } => values.push(ambient),
+                EdgeBc::Temperature { value } => values.push(value),
+                EdgeBc::Flux { q_in } => {
+                    heated |= q_in > 0.0;
+                    cooled |= q_in < 0.0;
+                }
+            }
+        }
+        let lower = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let upper = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Some(((!cooled).then_some(lower), (!heated).then_some(upper)))
+    }
+
     /// Per-element region temperature and the nodal initial field.
     fn initial_fields(&self, rho_c: &[f64]) -> Result<(Vec<f64>, Vec<f64>), ThermalError> {
         let mesh = self.mesh;
@@ -766,4 +808,30 @@ pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
         factorisations: stats.factorisations,
         max_balance_residual: max_res,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Goal: the bounds are the extremes of the initial temperatures, the
+    /// ambients and the prescribed temperatures; a heat flux in removes the
+    /// upper one, a flux out the lower one; no initial temperature, none.
+    #[test]
+    fn temperature_bounds_follow_the_initial_field_ambients_and_fluxes() {
+        let mesh = tecon_mesh::rectangle(0.0, 0.0, 1.0, 1.0, 2, 2).unwrap();
+        let mut m = ThermalModel::new(&mesh);
+        assert_eq!(m.temperature_bounds(), None);
+        m.set_initial_default(50.0).unwrap();
+        m.set_initial_node(0, 60.0).unwrap();
+        m.add_edge_bc("left", EdgeBc::convection(10.0, 20.0))
+            .unwrap();
+        m.prescribe_node(1, 70.0).unwrap();
+        assert_eq!(m.temperature_bounds(), Some((Some(20.0), Some(70.0))));
+        let mut heated = m.clone();
+        heated.add_edge_bc("top", EdgeBc::flux(5.0)).unwrap();
+        assert_eq!(heated.temperature_bounds(), Some((Some(20.0), None)));
+        m.add_edge_bc("top", EdgeBc::flux(-5.0)).unwrap();
+        assert_eq!(m.temperature_bounds(), Some((None, Some(70.0))));
+    }
 }

@@ -1,0 +1,109 @@
+//! Two "never silently wrong" checks of `tecon vessel`:
+//!
+//! - a temperature outside the bounds of the maximum principle (below the
+//!   lowest, above the highest of the initial temperatures, the ambient and
+//!   the prescribed temperatures) is reported: the paper mesh at t = 1 s
+//!   undershoots the 21 °C far field near the weld edge;
+//! - the interface counts of `summary.json` say what they count, and the
+//!   count of `interface_final.csv`'s rows is there too, equal to the file.
+
+use std::path::Path;
+use std::process::Command;
+
+fn vessel(out: &Path, extra: &[&str]) -> serde_json::Value {
+    let o = Command::new(env!("CARGO_BIN_EXE_tecon"))
+        .args(["vessel", "--quiet", "--out"])
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+fn bound_notes(s: &serde_json::Value) -> Vec<String> {
+    s["notes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|n| n.as_str())
+        .filter(|n| n.contains("outside its physical bounds"))
+        .map(String::from)
+        .collect()
+}
+
+/// Goal: the paper mesh's undershoot at t = 1 s (about 17.1 °C against the
+/// 21 °C far field and ambient) is a note naming the value, the time, the
+/// bound and the cause, in summary.json and report.txt, and a number in
+/// `thermal.bound_violation`; the default mesh g0 has none and says so (0,
+/// no note).
+#[test]
+fn a_temperature_below_the_initial_field_and_ambient_is_reported() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("p");
+    let s = vessel(&out, &["--mesh", "paper", "--times", "1,72000"]);
+    let excursion = s["thermal"]["bound_violation"].as_f64().unwrap();
+    assert!(excursion > 3.0 && excursion < 5.0, "{excursion}");
+    let notes = bound_notes(&s);
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    let n = &notes[0];
+    assert!(
+        n.contains("at t = 1 s")
+            && n.contains("below 21.000 °C")
+            && n.contains("initial temperature jump")
+            && n.contains("thermal stresses"),
+        "{n}"
+    );
+    let text = std::fs::read_to_string(out.join("report.txt")).unwrap();
+    assert!(text.contains("outside its physical bounds"), "{text}");
+
+    let out = d.path().join("g0");
+    let s = vessel(&out, &["--times", "1,72000"]);
+    assert_eq!(s["thermal"]["bound_violation"].as_f64(), Some(0.0));
+    assert!(bound_notes(&s).is_empty());
+}
+
+/// Goal: `final.interface_points` (integration points of the interface
+/// elements) and `final.interface_nodes` (the rows of interface_final.csv)
+/// each say what they count, and the latter matches the file row for row
+/// and status for status.
+#[test]
+fn the_interface_counts_of_the_summary_match_interface_final_csv() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("p");
+    let s = vessel(&out, &["--mesh", "paper", "--times", "1,72000"]);
+    let csv = std::fs::read_to_string(out.join("interface_final.csv")).unwrap();
+    let status: Vec<u8> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().trim().parse::<f64>().unwrap() as u8)
+        .collect();
+    let nodes = &s["final"]["interface_nodes"];
+    let count = |c: u8| status.iter().filter(|&&x| x == c).count() as u64;
+    assert_eq!(nodes["total"].as_u64(), Some(status.len() as u64));
+    assert_eq!(nodes["open"].as_u64(), Some(count(0)));
+    assert_eq!(nodes["stick"].as_u64(), Some(count(1)));
+    assert_eq!(nodes["slip"].as_u64(), Some(count(2)));
+    assert!(
+        nodes["counted"]
+            .as_str()
+            .unwrap()
+            .contains("interface_final.csv")
+    );
+    let points = &s["final"]["interface_points"];
+    assert!(points["total"].as_u64().unwrap() > status.len() as u64);
+    assert!(
+        points["counted"]
+            .as_str()
+            .unwrap()
+            .contains("integration points")
+    );
+    let text = std::fs::read_to_string(out.join("report.txt")).unwrap();
+    assert!(
+        text.contains(&format!(
+            "final interface: {} positions in interface_final.csv",
+            status.len()
+        )),
+        "{text}"
+    );
+}
