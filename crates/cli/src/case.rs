@@ -496,15 +496,19 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         .map_err(|e| err(f, e))?;
     setup::declare_interfaces(case, &mut mesh)?;
     let tie = setup::tie(case, &mesh)?;
-    let (outcome, joints, al, analysis, probes) = {
+    let (outcome, joints, al, analysis, probes, bound_violation) = {
         let p = setup::prepare(case, &mesh, tie.as_ref())?;
         let outcome = driver::run(&p.setup).map_err(|e| err(f, e))?;
+        // the same measure as `tecon vessel`'s thermal.bound_violation
+        let bound_violation = driver::temperature_bound_violation(&p.setup, &outcome.states)
+            .map_or(0.0, |b| b.excursion);
         (
             outcome,
             p.joints,
             p.augmented_lagrangian,
             p.analysis,
             p.probes,
+            bound_violation,
         )
     };
     let thermal_json = match outcome.thermal.mode {
@@ -513,11 +517,13 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         ThermalMode::Steady => json!({
             "mode": "steady",
             "heat_balance_max_rel_error": outcome.thermal.max_balance_residual,
+            "bound_violation": bound_violation,
         }),
         ThermalMode::Transient => json!({
             "mode": "transient",
             "steps": outcome.thermal.steps,
             "heat_balance_max_rel_error": outcome.thermal.max_balance_residual,
+            "bound_violation": bound_violation,
         }),
     };
     let mut summary = json!({
