@@ -498,3 +498,33 @@ fn bonded_rings_are_the_lame_cylinder() {
         );
     }
 }
+
+/// A body that every interface point lets go of is held by nothing: the
+/// shrink fit's inner ring made 50 K colder than the outer one, with only
+/// the outer ring's outer surface fixed, parts from it. The contact solve
+/// converges (every point open), but the inner ring's displacement is then
+/// arbitrary: it used to run to exit 0 with the ring drifting and 130 MPa
+/// of stress in a ring that no force acts on. Now an error names it.
+#[test]
+fn a_body_that_every_contact_lets_go_of_is_named() {
+    let text = edited("value = 71.0", "value = -29.0").replacen(
+        "[[mechanical.symmetry]]\nedges = \"start\"                # θ = 0\n[[mechanical.symmetry]]\nedges = \"end\"                  # θ = 90°",
+        "[[mechanical.fix]]\nset = \"outer\"\ncomponent = \"x\"\nvalue = 0.0\n[[mechanical.fix]]\nset = \"outer\"\ncomponent = \"y\"\nvalue = 0.0",
+        1,
+    );
+    assert!(
+        text.contains("[[mechanical.fix]]"),
+        "the symmetry lines moved"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("floating.toml");
+    std::fs::write(&path, &text).unwrap();
+    let c = case::load(&path).unwrap();
+    let e = case::execute(&c, &cases_dir()).unwrap_err().to_string();
+    assert!(
+        e.contains("body 'inner'")
+            && e.contains("held by nothing")
+            && e.contains("every interface point"),
+        "{e}"
+    );
+}

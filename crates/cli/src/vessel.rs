@@ -155,8 +155,11 @@ fn free_layer(
 ) -> Box<dyn std::error::Error + Send + Sync> {
     if let Some(p) = pressure.filter(|p| *p < 0.0)
         && let driver::DriverError::ContactSolve { source, .. } = &e
-        && let tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. }) =
-            source.as_ref()
+        && matches!(
+            source.as_ref(),
+            tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. })
+                | tecon_elastic::ElasticError::Floating { .. }
+        )
     {
         return format!(
             "{e}. On the built-in vessel that cannot be done; the cause is the negative --pressure {p:e} Pa (a vacuum inside, a net external pressure): it pulls the core away from the layer, so the layer, held only by the core/layer interface, loses all contact and is free. Give a positive (internal) --pressure, or tie the layer to the core with --interface bonded"

@@ -93,6 +93,17 @@ pub enum ElasticError {
     /// Assembly or linear algebra failed.
     #[error(transparent)]
     Fem(#[from] FemError),
+    /// The contact converged with every interface point that held a body
+    /// open: nothing holds it, and its displacement is arbitrary.
+    #[error(
+        "the contact solve converged with {description} held by nothing (normalised energy {energy:.2e}): every interface point that could hold it is open, so its displacement is arbitrary; support it (a fixed point or a symmetry condition), or load it so that it stays in contact"
+    )]
+    Floating {
+        /// Which bodies and modes are free, e.g. "body 'ring_in' in x-translation".
+        description: String,
+        /// Normalised energy of the free mode (≈ 0).
+        energy: f64,
+    },
     /// A material parameter out of range.
     #[error("material of region '{region}': {message}")]
     Material {

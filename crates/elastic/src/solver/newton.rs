@@ -41,6 +41,12 @@ impl StaticSolver<'_> {
             let accept = LINEAR_SHARE * tolerance * t.reference;
             let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
             if obs.done {
+                // open points carry no stiffness: a body that every one of
+                // its interface points has let go of is held by nothing,
+                // and the converged answer moves it arbitrarily
+                if obs.counts[0] > 0 {
+                    self.check_held(&kt)?;
+                }
                 return Ok((u, t.history));
             }
             if let Some(damped) = t.damped_points() {
@@ -135,6 +141,28 @@ impl StaticSolver<'_> {
 }
 
 impl StaticSolver<'_> {
+    /// Errors with [`ElasticError::Floating`] when the tangent `kt` (global
+    /// frame, before the constraints) leaves a body free: at a converged
+    /// state, one that no closed interface point holds any more.
+    pub(super) fn check_held(&self, kt: &CsrMatrix) -> Result<(), ElasticError> {
+        let mut k = kt.clone();
+        self.rotations.rotate_matrix(&mut k);
+        let mut rhs = vec![0.0; k.n()];
+        self.prepared.apply_scaled(&mut k, &mut rhs, 0.0);
+        match check_rigid_modes(&k, &self.modes) {
+            Err(FemError::Unconstrained {
+                description,
+                energy,
+                ..
+            }) => Err(ElasticError::Floating {
+                description,
+                energy,
+            }),
+            Err(e) => Err(e.into()),
+            Ok(()) => Ok(()),
+        }
+    }
+
     /// Prescribed values at this load level. A rotated node's constrained
     /// dof is its component along the constraint's normal, so the values
     /// are set in the rotated frame: writing 0 into the global x component
