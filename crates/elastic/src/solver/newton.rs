@@ -44,8 +44,9 @@ impl StaticSolver<'_> {
                 // open points carry no stiffness: a body that every one of
                 // its interface points has let go of is held by nothing,
                 // and the converged answer moves it arbitrarily
-                if obs.counts[0] > 0 {
+                if obs.counts[0] > 0 && self.held_statuses.as_ref() != Some(&obs.status) {
                     self.check_held(&kt)?;
+                    self.held_statuses = Some(obs.status);
                 }
                 return Ok((u, t.history));
             }
