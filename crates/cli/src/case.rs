@@ -499,8 +499,10 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     let (outcome, joints, al, analysis, probes, bound_violation) = {
         let p = setup::prepare(case, &mesh, tie.as_ref())?;
         let outcome = driver::run(&p.setup).map_err(|e| err(f, e))?;
-        // the same measure as `tecon vessel`'s thermal.bound_violation
-        let bound_violation = driver::temperature_bound_violation(&p.setup, &outcome.states)
+        // the measure of `tecon vessel`'s thermal.bound_violation
+        let bound_violation = outcome
+            .bound_violation
+            .as_ref()
             .map_or(0.0, |b| b.excursion);
         (
             outcome,

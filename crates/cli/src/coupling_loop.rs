@@ -742,6 +742,7 @@ pub(crate) fn two_way<'s>(
         thermal_seconds: lp.thermal_seconds,
         contact_seconds: lp.contact_seconds,
         coupling: Some(lp.stats),
+        bound_violation: None,
     })
 }
 

@@ -309,6 +309,9 @@ pub struct Outcome {
     pub contact_seconds: f64,
     /// Two-way coupling statistics (None: one-way).
     pub coupling: Option<CouplingStats>,
+    /// The worst output temperature outside the bounds of the maximum
+    /// principle (set by [`run`]; None: none, or no bound applies).
+    pub bound_violation: Option<BoundViolation>,
 }
 
 /// A temperature state before the contact solve.
@@ -353,7 +356,8 @@ const CONSTANT_TWO_WAY_NOTE: &str = "two-way coupling asked for, but no interfac
 /// adds a note.
 pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     let mut outcome = run_analysis(setup)?;
-    if let Some(v) = temperature_bound_violation(setup, &outcome.states) {
+    outcome.bound_violation = temperature_bound_violation(setup, &outcome.states);
+    if let Some(v) = &outcome.bound_violation {
         outcome.notes.push(v.note());
     }
     Ok(outcome)
@@ -531,6 +535,7 @@ fn run_analysis(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
         thermal_seconds: prepare_seconds + heat_seconds,
         contact_seconds,
         coupling: None,
+        bound_violation: None,
     })
 }
 

@@ -102,7 +102,7 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     let (outcome, pressure_only, bound_violation) = {
         let p = setup::prepare(&case, &mesh, tie.as_ref())?;
         let outcome = driver::run(&p.setup).map_err(|e| free_layer(e, o.pressure))?;
-        let bound_violation = driver::temperature_bound_violation(&p.setup, &outcome.states);
+        let bound_violation = outcome.bound_violation.clone();
         let alone = match o.pressure {
             Some(_) => Some(
                 driver::solve_mechanical(&p.setup, LoadFactors::FULL).map_err(|e| {
