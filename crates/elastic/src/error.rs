@@ -96,7 +96,7 @@ pub enum ElasticError {
     /// The contact converged with every interface point that held a body
     /// open: nothing holds it, and its displacement is arbitrary.
     #[error(
-        "the contact solve converged with {description} held by nothing (normalised energy {energy:.2e}): every interface point that could hold it is open, so its displacement is arbitrary; support it (a fixed point or a symmetry condition), or load it so that it stays in contact"
+        "the contact solve left {description} held by nothing (normalised energy {energy:.2e}): every interface point that could hold it is open, so its displacement is arbitrary; support it (a fixed point or a symmetry condition), or load it so that it stays in contact"
     )]
     Floating {
         /// Which bodies and modes are free, e.g. "body 'ring_in' in x-translation".

@@ -374,8 +374,22 @@ impl StaticSolver<'_> {
             // a corrected linear solve need not beat the convergence test
             let accept = LINEAR_SHARE * tolerance * t.reference;
             let status_t = self.statuses(&uf, committed);
-            let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
+            let obs = match t.observe(status_t, rel, floor, tolerance, &opts) {
+                Ok(o) => o,
+                Err(e) => return Err(self.floating_or(e, &uf, committed)),
+            };
             if obs.done {
+                // as in the full pass: a body that every interface point
+                // holding it has let go of is held by nothing
+                if obs.counts[0] > 0
+                    && !self
+                        .held_statuses
+                        .as_ref()
+                        .is_some_and(|h| no_softer(&obs.status, h))
+                {
+                    self.check_held_at(&uf, committed)?;
+                    self.held_statuses = Some(obs.status);
+                }
                 converged = true;
                 break;
             }
@@ -453,13 +467,16 @@ impl StaticSolver<'_> {
             }
             let gamma_norm2: f64 = gamma.iter().map(|&d| uf[d] * uf[d]).sum();
             let unorm = (interior_norm2 + gamma_norm2).sqrt().max(f64::MIN_POSITIVE);
-            t.stepped(step, step * norm(&du) / unorm)?;
+            if let Err(e) = t.stepped(step, step * norm(&du) / unorm) {
+                return Err(self.floating_or(e, &uf, committed));
+            }
         }
         if !converged {
-            return Err(super::tracker::failure(
+            let e = super::tracker::failure(
                 format!("no convergence in {} iterations", opts.max_iterations),
                 t.history,
-            ));
+            );
+            return Err(self.floating_or(e, &uf, committed));
         }
         // the interior follows the interface: Δu_I = −A_II⁻¹ A_IΓ δ
         let mut d_i = cx.chol.mul_interior_gamma(&delta);
@@ -476,6 +493,30 @@ impl StaticSolver<'_> {
             *a += b;
         }
         Ok(Outcome::Done(u, t.history))
+    }
+
+    /// [`StaticSolver::check_held`] on the full tangent at `uf` (a full
+    /// vector whose Γ entries are current; the tangent depends on them
+    /// alone, the bulk being linear). Made only where the condensed pass
+    /// cannot see it: the Schur complement carries a small shift that keeps
+    /// it definite for a body held by the interface alone, so a body that
+    /// every point lets go of drifts instead of failing the solve.
+    fn check_held_at(&self, uf: &[f64], committed: &[PointStates]) -> Result<(), ElasticError> {
+        let mut kt = self.k_bulk.clone();
+        let mut scratch = vec![0.0; uf.len()];
+        self.add_interfaces(uf, committed, Some(&mut kt), &mut scratch)?;
+        self.check_held(kt)
+    }
+
+    /// A condensed pass that failed (status ping-pong, stagnation, no
+    /// convergence) at `uf`: if a body is held by nothing there, that is
+    /// the error to report (the level-4 vessel under a vacuum ended in a
+    /// ping-pong of a drifting layer); otherwise `e`.
+    fn floating_or(&self, e: ElasticError, uf: &[f64], committed: &[PointStates]) -> ElasticError {
+        match self.check_held_at(uf, committed) {
+            Err(f @ ElasticError::Floating { .. }) => f,
+            _ => e,
+        }
     }
 
     /// The exact energy line search along `du` (on Γ): the bulk residual

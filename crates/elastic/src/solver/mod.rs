@@ -80,9 +80,9 @@ pub struct StaticSolver<'a> {
     modes_checked: bool,
     /// The statuses of the last converged state whose tangent was found to
     /// hold every body (see `StaticSolver::check_held`): a converged state
-    /// with the same statuses has the same supports, so it is not checked
-    /// again (the check clones and constrains the tangent: 18 % of a
-    /// two-way run when made at every converged pass).
+    /// whose statuses are no softer ([`no_softer`]) is held too, so it is
+    /// not checked again (the check clones and constrains the tangent: 18 %
+    /// of a two-way run when made at every converged pass).
     held_statuses: Option<Vec<PointStatus>>,
     cholesky: Option<UpdatedCholesky>,
     /// The bulk condensed onto the interface dofs (see `condensed`).
@@ -643,6 +643,25 @@ const MAX_UPDATE_RANK: usize = 32;
 /// the tangent as much as a change of status.
 type PointStatus = (ContactStatus, i8);
 
+/// True when a state with the statuses `new` is held at least as firmly
+/// as one with `held`, point by point: its tangent is no softer, so a body
+/// held at `held` is held at `new` (a positive semidefinite addition cannot
+/// free a mode). Per point, a closed sticking point carries normal and
+/// shear stiffness, a closed slipping one normal stiffness only, an open
+/// sliding one none; an open point that does not slide may still carry the
+/// shear stiffness of its frozen friction limit, or none, so it matches
+/// only itself or a closed sticking point.
+pub(super) fn no_softer(new: &[PointStatus], held: &[PointStatus]) -> bool {
+    use ContactStatus::{Open, Slip, Stick};
+    new.len() == held.len()
+        && new.iter().zip(held).all(|(n, h)| {
+            n == h
+                || n.0 == Stick
+                || (n.0 == Slip && (h.0 == Slip || (h.0 == Open && h.1 != 0)))
+                || (n.0 == Open && n.1 != 0 && h.0 == Open && h.1 != 0)
+        })
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -661,4 +680,48 @@ fn count(s: &[PointStatus]) -> [usize; 3] {
         }] += 1;
     }
     c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ContactStatus::{Open, Slip, Stick};
+
+    #[test]
+    fn a_stiffer_status_pattern_is_no_softer_and_a_softer_one_is() {
+        let held = [(Open, 1), (Slip, -1), (Stick, 0), (Open, 0)];
+        assert!(no_softer(&held, &held));
+        // every point at least as stiff: closed sticking beats anything,
+        // closed slipping beats open sliding
+        assert!(no_softer(
+            &[(Slip, 1), (Slip, 1), (Stick, 0), (Open, 0)],
+            &held
+        ));
+        assert!(no_softer(
+            &[(Stick, 0), (Stick, 0), (Stick, 0), (Stick, 0)],
+            &held
+        ));
+        // one point softer: a sticking point that slides or opens, a
+        // slipping one that opens
+        assert!(!no_softer(
+            &[(Open, 1), (Slip, -1), (Slip, 1), (Open, 0)],
+            &held
+        ));
+        assert!(!no_softer(
+            &[(Open, 1), (Open, 1), (Stick, 0), (Open, 0)],
+            &held
+        ));
+        // an open point that does not slide may carry shear stiffness: only
+        // itself or a closed sticking point stands in for it
+        assert!(!no_softer(
+            &[(Open, 1), (Slip, -1), (Stick, 0), (Slip, 1)],
+            &held
+        ));
+        assert!(!no_softer(
+            &[(Open, 1), (Slip, -1), (Stick, 0), (Open, 1)],
+            &held
+        ));
+        // patterns of other interfaces do not compare
+        assert!(!no_softer(&held[..3], &held));
+    }
 }

@@ -44,8 +44,13 @@ impl StaticSolver<'_> {
                 // open points carry no stiffness: a body that every one of
                 // its interface points has let go of is held by nothing,
                 // and the converged answer moves it arbitrarily
-                if obs.counts[0] > 0 && self.held_statuses.as_ref() != Some(&obs.status) {
-                    self.check_held(&kt)?;
+                if obs.counts[0] > 0
+                    && !self
+                        .held_statuses
+                        .as_ref()
+                        .is_some_and(|h| no_softer(&obs.status, h))
+                {
+                    self.check_held(kt)?;
                     self.held_statuses = Some(obs.status);
                 }
                 return Ok((u, t.history));
@@ -142,11 +147,10 @@ impl StaticSolver<'_> {
 }
 
 impl StaticSolver<'_> {
-    /// Errors with [`ElasticError::Floating`] when the tangent `kt` (global
+    /// Errors with [`ElasticError::Floating`] when the tangent `k` (global
     /// frame, before the constraints) leaves a body free: at a converged
     /// state, one that no closed interface point holds any more.
-    pub(super) fn check_held(&self, kt: &CsrMatrix) -> Result<(), ElasticError> {
-        let mut k = kt.clone();
+    pub(super) fn check_held(&self, mut k: CsrMatrix) -> Result<(), ElasticError> {
         self.rotations.rotate_matrix(&mut k);
         let mut rhs = vec![0.0; k.n()];
         self.prepared.apply_scaled(&mut k, &mut rhs, 0.0);
