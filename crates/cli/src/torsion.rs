@@ -81,6 +81,12 @@ pub struct TorsionArgs {
     /// the zones halve the n that thin walls need)
     #[arg(long)]
     pub no_corner_zones: bool,
+    /// Sections with re-entrant corners or inward cusps (where τ is infinite):
+    /// report, and refine until converged, the largest boundary shear stress
+    /// at least this distance from every such point [default: A/P, half the
+    /// mean wall thickness 2A/P]
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub corner_distance: Option<f64>,
     /// Output format
     #[arg(long, value_enum, default_value_t = FormatArg::Text)]
     pub format: FormatArg,
@@ -158,6 +164,11 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 .into(),
         );
     }
+    if let Some(r) = args.corner_distance
+        && !(r > 0.0 && r.is_finite())
+    {
+        return Err(format!("--corner-distance: need a positive length, got {r}").into());
+    }
     if !(args.tol > 0.0 && args.tol < 1.0) {
         return Err(format!("--tol: need 0 < TOL < 1, got {}", args.tol).into());
     }
@@ -168,6 +179,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         grading,
         linear: LinearSolver::Dense,
         corner_zones: !args.no_corner_zones,
+        corner_distance: args.corner_distance,
     };
     let points = match &args.points {
         Some(p) => parse_points(p)?,
@@ -314,7 +326,18 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 "tau_max,{t:.15e},{:.3e},relative",
                 ctl.tau_error.unwrap_or(f64::NAN)
             )?,
-            None => writeln!(f, "tau_max,inf,,singular")?,
+            None => {
+                writeln!(f, "tau_max,inf,,singular")?;
+                if let Some(a) = ms.away {
+                    writeln!(
+                        f,
+                        "tau_away,{:.15e},{:.3e},relative (largest boundary value at least tau_away_distance from every singular point)",
+                        a.value,
+                        ctl.tau_error.unwrap_or(f64::NAN)
+                    )?;
+                    writeln!(f, "tau_away_distance,{:.15e},,length", a.distance)?;
+                }
+            }
         }
         for (k, name) in ["shear_centre_x", "shear_centre_y"].iter().enumerate() {
             writeln!(
@@ -461,12 +484,20 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                     at[0],
                     at[1]
                 );
-                say!(
-                    "                   largest regular value {:.6e} at ({:.6}, {:.6})",
-                    ms.regular_max,
-                    ms.regular_at[0],
-                    ms.regular_at[1]
-                );
+                match ms.away {
+                    Some(a) => say!(
+                        "away from corners  τ/(Gθ) = {:.15e} at ({:.10}, {:.10}): the largest on the boundary at least R = {:.6e} from every singular point (--corner-distance)",
+                        a.value,
+                        a.at[0],
+                        a.at[1],
+                        a.distance
+                    ),
+                    None => say!(
+                        "away from corners  none: no boundary point lies R = {:.6e} or more from every singular point (--corner-distance)",
+                        opts.corner_distance
+                            .unwrap_or_else(|| section.default_corner_distance())
+                    ),
+                }
             }
         }
         say!(
@@ -492,10 +523,11 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
             "multiplier c       {:.3e}   (0 for the exact solution; small c alone does not prove accuracy)",
             sol.multiplier
         );
-        let tau_e = ctl
-            .tau_error
-            .map(|e| format!("{e:.1e}"))
-            .unwrap_or_else(|| "- (singular)".into());
+        let tau_e = match (ms.singular, ctl.tau_error) {
+            (false, Some(e)) => format!("τ_max {e:.1e}"),
+            (true, Some(e)) => format!("τ away from the singular points {e:.1e}"),
+            (_, None) => "τ_max - (singular)".into(),
+        };
         // "n = 512 vs 256" (difference), "n = 512 vs 256, rate from 128" (extrapolated)
         let from = &ctl.estimated_from;
         let basis = match from.as_slice() {
@@ -504,7 +536,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
             _ => format!("n = {n}"),
         };
         say!(
-            "estimated error    J {:.1e}, τ_max {tau_e}, shear centre {:.1e}, Γ {:.1e} (relative; tolerance {:.1e}; {basis})",
+            "estimated error    J {:.1e}, {tau_e}, shear centre {:.1e}, Γ {:.1e} (relative; tolerance {:.1e}; {basis})",
             ctl.j_error,
             ctl.shear_centre_error,
             ctl.warping_error,
@@ -552,8 +584,12 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 "max_shear_stress": ms.value,
                 "max_shear_stress_at": ms.at,
                 "singular": ms.singular,
-                "max_regular_shear_stress": ms.regular_max,
-                "max_regular_shear_stress_at": ms.regular_at,
+                "max_shear_stress_away": ms.away.map(|a| json!({
+                    "value": a.value,
+                    "at": a.at,
+                    "distance": a.distance,
+                    "estimated_error": ctl.tau_error.map(js),
+                })),
                 "n": n,
                 "method": method_name,
                 "wavelet": if method == Method::Daubechies { Some(format!("db{}", wavelet.order)) } else { None },
@@ -564,7 +600,8 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 "tolerance": ctl.tol,
                 "estimated_error": {
                     "torsional_rigidity": js(ctl.j_error),
-                    "max_shear_stress": ctl.tau_error.map(js),
+                    "max_shear_stress": if ms.singular { None } else { ctl.tau_error.map(js) },
+                    "max_shear_stress_away": if ms.singular { ctl.tau_error.map(js) } else { None },
                     "shear_centre": js(ctl.shear_centre_error),
                     "warping_constant": js(ctl.warping_error),
                 },

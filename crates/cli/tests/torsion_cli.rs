@@ -667,3 +667,59 @@ fn figures_of_a_box_draw_the_hole() {
     let svg = std::fs::read_to_string(d.join("boundary_shear.svg")).unwrap();
     assert!(!svg.contains("outer boundary") && !svg.contains("hole["));
 }
+
+#[test]
+fn a_singular_section_reports_the_stress_away_from_its_corners() {
+    let l = "polygon:0,0;2,0;2,1;1,1;1,2;0,2";
+    let far_enough = |a: &serde_json::Value, r: f64| {
+        let at = &a["at"];
+        let (x, y) = (at[0].as_f64().unwrap(), at[1].as_f64().unwrap());
+        (x - 1.0).hypot(y - 1.0) >= r * (1.0 - 1e-12)
+    };
+    // default R = A/P = 3/8: reported with its estimate
+    let v = json(&["--section", l]);
+    let a = &v["max_shear_stress_away"];
+    assert!(
+        (a["distance"].as_f64().unwrap() - 0.375).abs() < 1e-15,
+        "{a}"
+    );
+    assert!(far_enough(a, 0.375), "{a}");
+    assert!(a["value"].as_f64().unwrap() > 0.5, "{a}");
+    let e = a["estimated_error"].as_f64().unwrap();
+    assert_eq!(
+        v["estimated_error"]["max_shear_stress_away"].as_f64(),
+        Some(e)
+    );
+    assert!(v["estimated_error"]["max_shear_stress"].is_null());
+    // given R: the control follows it to the tolerance
+    let v = json(&["--section", l, "--corner-distance", "0.05"]);
+    let a = &v["max_shear_stress_away"];
+    assert_eq!(v["converged"], true);
+    assert_eq!(a["distance"].as_f64(), Some(0.05));
+    assert!(far_enough(a, 0.05), "{a}");
+    assert!(a["estimated_error"].as_f64().unwrap() <= 1e-8, "{a}");
+    // the text says what it is
+    let (ok, out, err) = tecon(&["--section", l]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("away from corners  τ/(Gθ) = ")
+            && out.contains("at least R = 3.750000e-1 from every singular point"),
+        "{out}"
+    );
+    // a section without singular points has none
+    let v = json(&["--section", "rectangle:w=1,h=1"]);
+    assert!(v["max_shear_stress_away"].is_null());
+    // results.csv carries it
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("l");
+    let (ok, _, err) = tecon(&["--section", l, "--out", d.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let csv = std::fs::read_to_string(d.join("results.csv")).unwrap();
+    assert!(csv.contains("tau_max,inf,,singular\ntau_away,"), "{csv}");
+    assert!(csv.contains("tau_away_distance,3.7499"), "{csv}");
+    // a bad distance is refused by name
+    for bad in ["0", "-1", "nan", "inf"] {
+        let (ok, _, err) = tecon(&["--section", l, "--corner-distance", bad]);
+        assert!(!ok && err.contains("--corner-distance"), "{bad}: {err}");
+    }
+}

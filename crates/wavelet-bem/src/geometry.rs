@@ -635,6 +635,27 @@ impl Section {
         self.perimeter() + self.holes.iter().map(|h| h.perimeter()).sum::<f64>()
     }
 
+    /// The points where τ is singular: re-entrant corners and inward cusps,
+    /// of the outer boundary and of the holes (a hole's convex-looking
+    /// corner is re-entrant for the section around it).
+    pub fn singular_points(&self) -> Vec<V2> {
+        self.curves()
+            .iter()
+            .flat_map(|c| c.junctions.iter())
+            .filter(|j| j.is_singular())
+            .map(|j| j.point)
+            .collect()
+    }
+
+    /// Default distance from the singular points outside which the
+    /// boundary shear stress of a singular section is reported: A/P, half
+    /// the mean wall thickness 2A/P (the wall thickness of a thin-walled
+    /// section, where the stress near a re-entrant corner has fallen to
+    /// within tens of per cent of the wall's own).
+    pub fn default_corner_distance(&self) -> f64 {
+        self.area / self.total_perimeter()
+    }
+
     /// Whether `p` lies inside Ω (strictly, at a distance above `1e-12`
     /// times the size of the section). Curved pieces are judged on an
     /// inscribed polyline of 4096 chords per piece, so points within about

@@ -67,6 +67,11 @@ pub struct Options {
     /// the mean node spacing in their middle) instead of Kress's (twice
     /// it); false keeps Kress's map everywhere (a cross-check)
     pub corner_zones: bool,
+    /// Singular sections: the distance from the singular points (re-entrant
+    /// corners, inward cusps) outside which the largest boundary shear
+    /// stress is reported and controlled, [`MaxShear::away`] (None: the
+    /// section's [`Section::default_corner_distance`])
+    pub corner_distance: Option<f64>,
 }
 
 impl Default for Options {
@@ -78,6 +83,7 @@ impl Default for Options {
             grading: 8.0,
             linear: LinearSolver::Dense,
             corner_zones: true,
+            corner_distance: None,
         }
     }
 }
@@ -106,10 +112,32 @@ pub struct MaxShear {
     pub at: Option<V2>,
     /// τ → ∞ somewhere on Γ
     pub singular: bool,
-    /// largest |q| found on the regular part of Γ (equals `value` when not singular)
-    pub regular_max: f64,
-    /// where `regular_max` is attained
-    pub regular_at: V2,
+    /// singular sections: the largest boundary τ at least a set distance
+    /// from every singular point, the stress an engineer reads off a wall
+    /// (None when not singular)
+    pub away: Option<AwayShear>,
+}
+
+impl MaxShear {
+    /// The value the error control follows: τ_max, or for a singular
+    /// section the largest value away from its singular points.
+    pub fn controlled(&self) -> Option<f64> {
+        self.value.or(self.away.map(|a| a.value))
+    }
+}
+
+/// The largest boundary shear stress of a singular section outside discs
+/// around its singular points: a point value that converges with n (the
+/// stress at the singular points themselves is infinite, and the largest
+/// sampled value next to them only grows as n does).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct AwayShear {
+    /// largest |q| = τ/(Gθ) on Γ at least `distance` from every singular point
+    pub value: f64,
+    /// where it is attained
+    pub at: V2,
+    /// the distance
+    pub distance: f64,
 }
 
 /// One sample of the boundary traction.
@@ -407,27 +435,107 @@ impl TorsionSolution {
 
     /// τ_max = max |q| over every boundary curve on the interpolant (graded
     /// clusters excluded), refined by golden-section search; singular corners
-    /// and cusps reported as such.
+    /// and cusps reported as such, with the largest value at least
+    /// [`Options::corner_distance`] from them ([`MaxShear::away`]).
     pub fn max_shear(&self) -> MaxShear {
-        let m = (8 * self.options.n).max(2048);
-        let mut best = (0.0f64, 0.5, [0.0, 0.0], 0usize);
-        for k in 0..self.curve_count() {
-            for s in &self.boundary_samples_on(k, m) {
-                if s.q.abs() > best.0 {
-                    best = (s.q.abs(), s.t, s.x, k);
+        let singular_at = self.section.singular_points().first().copied();
+        match singular_at {
+            Some(p) => {
+                let distance = self
+                    .options
+                    .corner_distance
+                    .unwrap_or_else(|| self.section.default_corner_distance());
+                MaxShear {
+                    value: None,
+                    at: Some(p),
+                    singular: true,
+                    away: self.max_shear_away(distance),
+                }
+            }
+            None => {
+                let (value, at) = self.largest_flux(|_| true).unwrap_or((0.0, [0.0, 0.0]));
+                MaxShear {
+                    value: Some(value),
+                    at: Some(at),
+                    singular: false,
+                    away: None,
                 }
             }
         }
+    }
+
+    /// The largest boundary τ at least `distance` from every singular point
+    /// (None when no part of the boundary is that far from them).
+    pub fn max_shear_away(&self, distance: f64) -> Option<AwayShear> {
+        let points = self.section.singular_points();
+        let clear = |x: V2| {
+            points
+                .iter()
+                .all(|p| (x[0] - p[0]).hypot(x[1] - p[1]) >= distance)
+        };
+        self.largest_flux(clear).map(|(value, at)| AwayShear {
+            value,
+            at,
+            distance,
+        })
+    }
+
+    /// max |q| over the boundary points x with `clear(x)`, graded clusters
+    /// excluded: the largest of m = max(8n, 2048) samples per curve, refined
+    /// by golden-section search between its neighbours. Where a neighbour
+    /// is not clear, the search interval ends where the boundary stops
+    /// being clear (found by bisection), and that end is a candidate too:
+    /// next to a singular corner the largest value away from it lies on
+    /// that edge, and a sample position would make it depend on n.
+    fn largest_flux(&self, clear: impl Fn(V2) -> bool) -> Option<(f64, V2)> {
+        let m = (8 * self.options.n).max(2048);
+        let mut best: Option<(f64, f64, V2, usize)> = None;
+        for k in 0..self.curve_count() {
+            for s in &self.boundary_samples_on(k, m) {
+                if best.is_none_or(|b| s.q.abs() > b.0) && clear(s.x) {
+                    best = Some((s.q.abs(), s.t, s.x, k));
+                }
+            }
+        }
+        let mut best = best?;
         let kc = best.3;
-        // golden section on [t − 1/m, t + 1/m]
+        let (sec, param, _) = self.curve(kc);
+        let x_at = |t: f64| param.eval(sec, t).x();
         let f = |t: f64| -> f64 {
-            if self.in_cluster_on(kc, t) {
+            if self.in_cluster_on(kc, t) || !clear(x_at(t)) {
                 0.0
             } else {
                 self.flux_on(kc, t).1.abs()
             }
         };
-        let (mut a, mut b) = (best.1 - 1.0 / m as f64, best.1 + 1.0 / m as f64);
+        // the bracket [t − 1/m, t + 1/m], each end pulled in to where the
+        // boundary is still clear
+        let h = 1.0 / m as f64;
+        let clip = |inside: f64, outside: f64| -> (f64, bool) {
+            if clear(x_at(outside)) {
+                return (outside, false);
+            }
+            let (mut a, mut b) = (inside, outside);
+            for _ in 0..60 {
+                let c = 0.5 * (a + b);
+                if clear(x_at(c)) {
+                    a = c;
+                } else {
+                    b = c;
+                }
+            }
+            (a, true)
+        };
+        let ((a0, clipped_a), (b0, clipped_b)) =
+            (clip(best.1, best.1 - h), clip(best.1, best.1 + h));
+        for (t, clipped) in [(a0, clipped_a), (b0, clipped_b)] {
+            let v = f(t);
+            if clipped && v > best.0 {
+                best = (v, t, x_at(t), kc);
+            }
+        }
+        // golden section on [a, b]
+        let (mut a, mut b) = (a0, b0);
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let mut c = b - g * (b - a);
         let mut d = a + g * (b - a);
@@ -450,32 +558,9 @@ impl TorsionSolution {
         let tm = 0.5 * (a + b);
         let vm = f(tm);
         if vm > best.0 {
-            let (sec, param, _) = self.curve(kc);
-            best = (vm, tm, param.eval(sec, tm).x(), kc);
+            best = (vm, tm, x_at(tm), kc);
         }
-        let singular_at = self
-            .section
-            .curves()
-            .iter()
-            .flat_map(|c| c.junctions.iter())
-            .find(|j| j.is_singular())
-            .map(|j| j.point);
-        match singular_at {
-            Some(p) => MaxShear {
-                value: None,
-                at: Some(p),
-                singular: true,
-                regular_max: best.0,
-                regular_at: best.2,
-            },
-            None => MaxShear {
-                value: Some(best.0),
-                at: Some(best.2),
-                singular: false,
-                regular_max: best.0,
-                regular_at: best.2,
-            },
-        }
+        Some((best.0, best.2))
     }
 
     /// u and the stresses at interior points, each checked to lie inside Ω
