@@ -198,6 +198,10 @@ pub struct StageResult {
     /// The interface dofs the stage's Newton passes were condensed onto
     /// (None: full passes, as with [`MultilayerOptions::condensation`] off).
     pub condensed_dofs: Option<usize>,
+    /// The nodal temperatures (°C) at each of the stage's output times,
+    /// (time in s, one value per node of the stage's mesh: the first nodes
+    /// of the whole mesh); empty for the pressure stage.
+    pub temperatures: Vec<(f64, Vec<f64>)>,
 }
 
 /// A finished multilayer run.
@@ -487,6 +491,11 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             heat_balance: summary.max_balance_residual,
             seconds: (heat_seconds, contact_clock.elapsed().as_secs_f64()),
             condensed_dofs: solver.condensed_dofs(),
+            temperatures: times
+                .iter()
+                .zip(&outputs)
+                .map(|(&t, o)| (t, o.0.clone()))
+                .collect(),
         });
     }
     if let Some(p) = o.pressure {
@@ -537,6 +546,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             heat_balance: 0.0,
             seconds: (0.0, contact_clock.elapsed().as_secs_f64()),
             condensed_dofs: solver.condensed_dofs(),
+            temperatures: Vec::new(),
         });
     }
     Ok(MultilayerRun {
