@@ -10,7 +10,8 @@
 //!     jump from the displacements at activation), one solve per output
 //!     time from the previous converged state
 //!   → per stage: hoop stress through the wall (circumferential means),
-//!     pressure of every interface around the circumference, VTK, summary
+//!     pressure of every interface around the circumference, VTK, summary,
+//!     the nodal temperatures at every output time of the cooling
 //! optional last stage (--pressure P): the internal pressure P on the bore,
 //!   temperatures held; closed form: the prestress plus the Lamé field of
 //!   the whole wall under P (the joints stay closed)
