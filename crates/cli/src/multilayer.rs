@@ -10,7 +10,8 @@
 //!     jump from the displacements at activation), one solve per output
 //!     time from the previous converged state
 //!   → per stage: hoop stress through the wall (circumferential means),
-//!     pressure of every interface around the circumference, VTK, summary
+//!     pressure of every interface around the circumference, VTK, summary,
+//!     the nodal temperatures at every output time of the cooling
 //! optional last stage (--pressure P): the internal pressure P on the bore,
 //!   temperatures held; closed form: the prestress plus the Lamé field of
 //!   the whole wall under P (the joints stay closed)
@@ -198,6 +199,10 @@ pub struct StageResult {
     /// The interface dofs the stage's Newton passes were condensed onto
     /// (None: full passes, as with [`MultilayerOptions::condensation`] off).
     pub condensed_dofs: Option<usize>,
+    /// The nodal temperatures (°C) at each of the stage's output times,
+    /// (time in s, one value per node of the stage's mesh: the first nodes
+    /// of the whole mesh); empty for the pressure stage.
+    pub temperatures: Vec<(f64, Vec<f64>)>,
 }
 
 /// A finished multilayer run.
@@ -487,6 +492,11 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             heat_balance: summary.max_balance_residual,
             seconds: (heat_seconds, contact_clock.elapsed().as_secs_f64()),
             condensed_dofs: solver.condensed_dofs(),
+            temperatures: times
+                .iter()
+                .zip(&outputs)
+                .map(|(&t, o)| (t, o.0.clone()))
+                .collect(),
         });
     }
     if let Some(p) = o.pressure {
@@ -537,6 +547,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             heat_balance: 0.0,
             seconds: (0.0, contact_clock.elapsed().as_secs_f64()),
             condensed_dofs: solver.condensed_dofs(),
+            temperatures: Vec::new(),
         });
     }
     Ok(MultilayerRun {

@@ -1,20 +1,27 @@
 //! The multilayer run's outputs and the `tecon vessel --layers` command;
 //! the outputs are shared by `tecon vessel --layers` and
-//! `tecon run` with `[[stage]]` entries: per stage the hoop stress through
-//! the wall (circumferential means per element row against the sequential
-//! shrink fit) as CSV and figure, every interface's contact pressure around
-//! the circumference (one row per interface point, sorted by angle) as CSV
-//! and figure, the VTU and a summary; the whole run's summary and the text
-//! report.
+//! `tecon run` with `[[stage]]` entries. Per stage, each figure as CSV, SVG
+//! and PNG:
+//!
+//! * the hoop stress through the wall (circumferential means per element
+//!   row against the sequential shrink fit), and through the wall at every
+//!   seam and far from the seams (nodal σ_θθ of one node column);
+//! * every interface's contact pressure, and its opening and slip, around
+//!   the circumference, each beside a detail of ±3° about the weld of the
+//!   layer above the interface;
+//! * for a layer stage, the temperature around layer k's inner and outer
+//!   surfaces at each output time of weld k's cooling;
+//!
+//! then the VTU and a summary; the whole run's summary and the text report.
 
 use std::path::Path;
 
 use serde_json::{Value, json};
 use tecon_elastic::polar;
 
-use crate::figures::{self, InterfaceRow};
-use crate::multilayer::{MultilayerRun, interface_name, wall_lame};
-use crate::plot::{Axis, Figure, LegendAt, Line, Panel};
+use crate::figures::{self, InterfaceRow, WELD_DETAIL_DEG, WELD_ZONE_DEG, time_label};
+use crate::multilayer::{MultilayerRun, in_ring, interface_name, wall_lame};
+use crate::plot::{Axis, Figure, LegendAt, Line, Panel, fmt_value};
 use crate::writers::{self, CliResult, csv, write_state_vtu};
 
 /// The closed-form hoop stress at radius `r` of ring `ring` after stage
@@ -49,6 +56,508 @@ fn hoop_rows(run: &MultilayerRun, stage: usize) -> Vec<Vec<f64>> {
     rows
 }
 
+/// The angle from the seam at `seam` (°) to `theta` (°): wrapped into
+/// (−180°, 180°] on a full ring; its magnitude on a half section, where
+/// the two sides of a seam on y = 0 are mirror images.
+pub fn from_seam(theta: f64, seam: f64, half: bool) -> f64 {
+    let d = (theta - seam).rem_euclid(360.0);
+    let d = if d > 180.0 { d - 360.0 } else { d };
+    if half { d.abs() } else { d }
+}
+
+/// The seam angle of layer `k` (1-based), degrees.
+fn seam_deg(run: &MultilayerRun, k: usize) -> f64 {
+    run.options.geometry.layers[k - 1].seam_angle.to_degrees()
+}
+
+/// θ of a point about the vessel axis, degrees in (−180°, 180°].
+fn theta_of(p: [f64; 2]) -> f64 {
+    p[1].atan2(p[0]).to_degrees()
+}
+
+/// The nodes of ring `ring` (0 = core) on the circle of radius `r`,
+/// sorted by θ about the axis.
+fn ring_nodes_at(run: &MultilayerRun, ring: usize, r: f64) -> Vec<usize> {
+    let mesh = &run.mesh;
+    let names = mesh.region_names();
+    let mut mine = vec![false; mesh.n_nodes()];
+    for (e, t) in mesh.triangles().iter().enumerate() {
+        if in_ring(&names[mesh.element_regions()[e]], ring) {
+            for &v in t {
+                mine[v] = true;
+            }
+        }
+    }
+    let x = mesh.nodes();
+    let mut v: Vec<usize> = (0..mesh.n_nodes())
+        .filter(|&i| mine[i] && (x[i][0].hypot(x[i][1]) - r).abs() <= 1e-9 * r)
+        .collect();
+    v.sort_by(|&a, &b| theta_of(x[a]).total_cmp(&theta_of(x[b])).then(a.cmp(&b)));
+    v
+}
+
+/// The x ranges of a weld panel (half width `w`°) and of the whole
+/// circumference, from the seam on a half section (0…w, 0…180) or about
+/// it on a full ring (−w…w, −180…180).
+fn seam_ranges(half: bool, w: f64) -> [(f64, f64); 2] {
+    if half {
+        [(0.0, w), (0.0, 180.0)]
+    } else {
+        [(-w, w), (-180.0, 180.0)]
+    }
+}
+
+/// Header of [`temperature_rows`].
+pub const TEMPERATURE_HEADER: [&str; 5] = [
+    "time_s",
+    "theta_deg",
+    "theta_from_weld_deg",
+    "T_layer_inner_C",
+    "T_layer_outer_C",
+];
+
+/// The temperature around layer `k`'s inner and outer surfaces during
+/// stage `stage` (a layer stage, layer k = its last layer): per output
+/// time and node station, (time, θ about the axis, θ from the centre of
+/// weld k, T inner, T outer), sorted by time and θ. Empty for the
+/// pressure stage.
+pub fn temperature_rows(run: &MultilayerRun, stage: usize) -> CliResult<Vec<Vec<f64>>> {
+    let st = &run.stages[stage - 1];
+    if st.temperatures.is_empty() {
+        return Ok(Vec::new());
+    }
+    let k = st.layers;
+    let radii = run.options.geometry.radii();
+    let inner = ring_nodes_at(run, k, radii[k]);
+    let outer = ring_nodes_at(run, k, radii[k + 1]);
+    let x = run.mesh.nodes();
+    if inner.is_empty()
+        || inner.len() != outer.len()
+        || inner
+            .iter()
+            .zip(&outer)
+            .any(|(&a, &b)| (theta_of(x[a]) - theta_of(x[b])).abs() > 1e-6)
+    {
+        return Err(format!(
+            "stage {stage}: the nodes of layer {k}'s inner and outer surfaces do not pair up by angle"
+        )
+        .into());
+    }
+    let (seam, half) = (seam_deg(run, k), run.options.half_section());
+    let mut rows = Vec::new();
+    for (t, temperature) in &st.temperatures {
+        for (&a, &b) in inner.iter().zip(&outer) {
+            let th = theta_of(x[a]);
+            rows.push(vec![
+                *t,
+                th,
+                from_seam(th, seam, half),
+                temperature[a],
+                temperature[b],
+            ]);
+        }
+    }
+    Ok(rows)
+}
+
+/// Figure: the temperature around layer k during weld k's cooling (stage
+/// `stage`), against the angle from the weld centre: the weld zone (±20°)
+/// beside the whole circumference; one colour per output time, solid the
+/// layer's inner surface, dashed its outer one. None for the pressure stage.
+pub fn temperature_figure(run: &MultilayerRun, stage: usize) -> CliResult<Option<Figure>> {
+    let rows = temperature_rows(run, stage)?;
+    if rows.is_empty() {
+        return Ok(None);
+    }
+    let k = run.stages[stage - 1].layers;
+    let half = run.options.half_section();
+    let times: Vec<f64> = run.stages[stage - 1]
+        .temperatures
+        .iter()
+        .map(|t| t.0)
+        .collect();
+    let side = |t: f64, column: usize| {
+        let mut pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r[0] == t)
+            .map(|r| (r[2], r[column]))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        pts
+    };
+    let [zone, whole] = seam_ranges(half, WELD_ZONE_DEG);
+    let panel = |title: String, range: (f64, f64), legend: LegendAt| {
+        let mut lines = Vec::new();
+        for (c, &t) in times.iter().enumerate() {
+            lines.push(Line::solid(time_label(t), c, side(t, 3)));
+            lines.push(Line::dashed("", c, side(t, 4)));
+        }
+        Panel {
+            title,
+            x: Axis::linear(format!("θ from the centre of weld {k} [°]")).range(range.0, range.1),
+            y: Axis::linear("T [°C]"),
+            lines,
+            notes: vec![format!(
+                "solid: layer {k} inner surface, dashed: outer surface"
+            )],
+            legend,
+            ..Default::default()
+        }
+    };
+    Ok(Some(Figure {
+        title: format!("Stage {stage}: temperature around layer {k} while weld {k} cools"),
+        panels: vec![
+            panel(format!("weld {k} zone"), zone, LegendAt::None),
+            panel(
+                if half {
+                    "half circumference".into()
+                } else {
+                    "whole circumference".into()
+                },
+                whole,
+                LegendAt::UpperRight,
+            ),
+        ],
+        size: (1300, 600),
+    }))
+}
+
+/// Header of [`opening_slip_rows`].
+pub const OPENING_SLIP_HEADER: [&str; 6] = [
+    "interface (1: core/layer 1, k: layer k-1/layer k)",
+    "theta_deg",
+    "theta_from_weld_deg (weld of the layer above)",
+    "opening_jump_n_m",
+    "slip_m",
+    "status (0 open; 1 stick; 2 slip)",
+];
+
+/// The opening ⟦u⟧_n and the plastic slip g_s of every interface point
+/// after stage `stage`, the rows of [`stage_interface_rows`] (same order):
+/// (interface, θ about the axis, θ from the weld of the layer above the
+/// interface, opening, slip, status).
+pub fn opening_slip_rows(run: &MultilayerRun, stage: usize) -> Vec<Vec<f64>> {
+    let half = run.options.half_section();
+    stage_interface_rows(run, stage)
+        .iter()
+        .map(|r| {
+            let j = r.interface + 1;
+            vec![
+                j as f64,
+                r.theta_deg,
+                from_seam(r.theta_deg, seam_deg(run, j), half),
+                r.jump_n,
+                r.slip,
+                f64::from(r.status),
+            ]
+        })
+        .collect()
+}
+
+/// Two panels of interface values after stage `stage`, one colour per
+/// interface: a detail of ±[`WELD_DETAIL_DEG`] about the weld of the layer
+/// above each interface (x: θ from that weld's centre), and the whole
+/// circumference (x: θ about the axis). `lines` gives an interface's
+/// lines from its rows (θ, θ from its weld, row) sorted by the x used.
+fn interface_panels(
+    run: &MultilayerRun,
+    stage: usize,
+    y: &str,
+    notes: Vec<String>,
+    lines: impl Fn(usize, &[(f64, &InterfaceRow)]) -> Vec<Line>,
+) -> Vec<Panel> {
+    let st = &run.stages[stage - 1];
+    let rows = stage_interface_rows(run, stage);
+    let half = run.options.half_section();
+    let [detail, _] = seam_ranges(half, WELD_DETAIL_DEG);
+    let whole = if half { (0.0, 180.0) } else { (-180.0, 180.0) };
+    let of = |j: usize, near: bool| {
+        let mut v: Vec<(f64, &InterfaceRow)> = rows
+            .iter()
+            .filter(|r| r.interface == j - 1)
+            .map(|r| {
+                let x = if near {
+                    from_seam(r.theta_deg, seam_deg(run, j), half)
+                } else {
+                    r.theta_deg
+                };
+                (x, r)
+            })
+            .collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v
+    };
+    let panel = |near: bool| Panel {
+        title: if near {
+            format!("at the weld of the layer above (±{WELD_DETAIL_DEG}°)")
+        } else if half {
+            "half circumference".into()
+        } else {
+            "whole circumference".into()
+        },
+        x: if near {
+            Axis::linear("θ from the centre of the weld above the interface [°]")
+                .range(detail.0, detail.1)
+        } else {
+            Axis::linear("θ about the vessel axis [°] (seam of layer 1 at 0°)")
+                .range(whole.0, whole.1)
+        },
+        y: Axis::linear(y),
+        lines: (1..=st.layers)
+            .flat_map(|j| lines(j, &of(j, near)))
+            .collect(),
+        notes: if near { notes.clone() } else { Vec::new() },
+        legend: if near {
+            LegendAt::None
+        } else {
+            LegendAt::UpperRight
+        },
+        ..Default::default()
+    };
+    vec![panel(true), panel(false)]
+}
+
+/// Figure: the opening and the plastic slip of every interface after stage
+/// `stage` (µm; solid slip, dashed opening, one colour per interface),
+/// the weld detail beside the whole circumference.
+pub fn opening_slip_figure(run: &MultilayerRun, stage: usize) -> Figure {
+    let panels = interface_panels(
+        run,
+        stage,
+        "plastic slip, opening [µm]",
+        vec!["solid: plastic slip g_s, dashed: opening ⟦u⟧_n".into()],
+        |j, pts| {
+            vec![
+                Line::solid(
+                    interface_name(j),
+                    j - 1,
+                    pts.iter().map(|(x, r)| (*x, r.slip * 1e6)).collect(),
+                ),
+                Line::dashed(
+                    "",
+                    j - 1,
+                    pts.iter().map(|(x, r)| (*x, r.jump_n * 1e6)).collect(),
+                ),
+            ]
+        },
+    );
+    Figure {
+        title: format!("Interfaces after stage {stage}: slip and opening"),
+        panels,
+        size: (1400, 600),
+    }
+}
+
+/// The through-wall locations of stage `stage`: first the node station
+/// nearest the middle of the widest gap between the active seams (far
+/// from every seam; of equally wide gaps, within 1e-9°, the first from 0°),
+/// then the seam of each active layer; (0 for far or k for the seam of
+/// layer k, θ°).
+pub fn wall_locations(run: &MultilayerRun, stage: usize) -> Vec<(usize, f64)> {
+    let k = run.stages[stage - 1].layers;
+    let seams: Vec<f64> = (1..=k).map(|j| seam_deg(run, j)).collect();
+    let mut sorted = seams.clone();
+    sorted.sort_by(f64::total_cmp);
+    let mut middle = (0.0, -1.0);
+    for (i, &a) in sorted.iter().enumerate() {
+        let b = if i + 1 < sorted.len() {
+            sorted[i + 1]
+        } else {
+            sorted[0] + 360.0
+        };
+        if b - a > middle.1 + 1e-9 {
+            middle = ((0.5 * (a + b)).rem_euclid(360.0), b - a);
+        }
+    }
+    let x = run.mesh.nodes();
+    let bore = ring_nodes_at(run, 0, run.options.geometry.inner_radius);
+    let far = bore
+        .iter()
+        .map(|&i| theta_of(x[i]))
+        .min_by(|a, b| {
+            from_seam(*a, middle.0, false)
+                .abs()
+                .total_cmp(&from_seam(*b, middle.0, false).abs())
+        })
+        .unwrap_or(middle.0);
+    let mut v = vec![(0, far)];
+    v.extend(seams.iter().enumerate().map(|(j, &s)| (j + 1, s)));
+    v
+}
+
+/// Header of [`seam_profile_rows`].
+pub const SEAM_PROFILE_HEADER: [&str; 6] = [
+    "location (0: far from the seams; k: seam of layer k)",
+    "theta_deg",
+    "ring (0 core; k layer k)",
+    "r_m",
+    "hoop_fe_nodal_Pa",
+    "hoop_closed_form_Pa",
+];
+
+/// The hoop stress through the wall after stage `stage` at each of
+/// [`wall_locations`]: per location, ring and node row, the node of the
+/// ring on that row nearest the location's angle: (location, θ of the
+/// node, ring, r, nodal σ_θθ (the area-weighted mean of the elements
+/// around the node), the closed form at r (the sequential shrink fit,
+/// which knows no seam)).
+pub fn seam_profile_rows(run: &MultilayerRun, stage: usize) -> Vec<Vec<f64>> {
+    let st = &run.stages[stage - 1];
+    let radii = run.options.geometry.radii();
+    let x = run.mesh.nodes();
+    let mut rows = Vec::new();
+    for (loc, angle) in wall_locations(run, stage) {
+        for ring in 0..=st.layers {
+            let n = if ring == 0 {
+                run.options.spec.core_rows
+            } else {
+                run.options.spec.layer_rows
+            };
+            for j in 0..=n {
+                let r = radii[ring] + (radii[ring + 1] - radii[ring]) * j as f64 / n as f64;
+                let near = ring_nodes_at(run, ring, r).into_iter().min_by(|&a, &b| {
+                    from_seam(theta_of(x[a]), angle, false)
+                        .abs()
+                        .total_cmp(&from_seam(theta_of(x[b]), angle, false).abs())
+                });
+                if let Some(i) = near {
+                    rows.push(vec![
+                        loc as f64,
+                        theta_of(x[i]),
+                        ring as f64,
+                        r,
+                        polar(st.state.stress.nodal[i], x[i], [0.0, 0.0])[1],
+                        closed_form_hoop(run, stage, ring, r),
+                    ]);
+                }
+            }
+        }
+    }
+    rows
+}
+
+/// Figure: the hoop stress through the wall after stage `stage` at every
+/// seam (one colour per seam) and far from the seams, FE nodal values
+/// (markers, one segment per ring) against the sequential shrink fit
+/// (dashed; a model of the ring means, without seams).
+pub fn seam_profile_figure(run: &MultilayerRun, stage: usize) -> Figure {
+    let rows = seam_profile_rows(run, stage);
+    let r0 = run.options.geometry.inner_radius;
+    let k = run.stages[stage - 1].layers;
+    let profile = |loc: usize, column: usize| {
+        let mut v = Vec::new();
+        for ring in 0..=k {
+            if ring > 0 {
+                v.push((f64::NAN, f64::NAN));
+            }
+            v.extend(
+                rows.iter()
+                    .filter(|r| r[0] == loc as f64 && r[2] == ring as f64)
+                    .map(|r| ((r[3] - r0) * 1e3, r[column] / 1e6)),
+            );
+        }
+        v
+    };
+    let far = rows
+        .iter()
+        .find(|r| r[0] == 0.0)
+        .map_or(f64::NAN, |r| r[1].rem_euclid(360.0));
+    let closed = Line::dashed(
+        "sequential shrink fit (closed form of the ring means)",
+        7,
+        profile(0, 5),
+    );
+    let mut at_seams: Vec<Line> = (1..=k)
+        .map(|j| {
+            Line::solid(
+                format!("seam of layer {j} (θ = {}°)", fmt_value(seam_deg(run, j))),
+                j - 1,
+                profile(j, 4),
+            )
+            .with_markers()
+        })
+        .collect();
+    at_seams.push(closed.clone());
+    let x = || Axis::linear("distance from the bore [mm]; core, then layer 1, 2, …");
+    let st = &run.stages[stage - 1];
+    let what = if st.pressure == 0.0 {
+        format!("after layer {k} is welded")
+    } else {
+        format!(
+            "under {} MPa internal pressure",
+            fmt_value(st.pressure / 1e6)
+        )
+    };
+    Figure {
+        title: format!("Hoop stress through the wall at the seams, stage {stage} ({what})"),
+        panels: vec![
+            Panel {
+                title: "at each seam".into(),
+                x: x(),
+                y: Axis::linear("σ_θθ [MPa]"),
+                lines: at_seams,
+                legend: LegendAt::UpperLeft,
+                ..Default::default()
+            },
+            Panel {
+                title: format!(
+                    "far from the seams (θ = {}°)",
+                    fmt_value((far * 100.0).round() / 100.0)
+                ),
+                x: x(),
+                y: Axis::linear("σ_θθ [MPa]"),
+                lines: vec![
+                    Line::solid("FE (nodal σ_θθ of one node column)", 0, profile(0, 4))
+                        .with_markers(),
+                    closed,
+                ],
+                legend: LegendAt::UpperLeft,
+                ..Default::default()
+            },
+        ],
+        size: (1400, 600),
+    }
+}
+
+/// Per interface (1-based) after stage `stage`: (largest opening ⟦u⟧_n,
+/// largest |slip|, open points), over the rows of [`stage_interface_rows`].
+pub fn interface_extremes(run: &MultilayerRun, stage: usize) -> Vec<(f64, f64, usize)> {
+    let rows = stage_interface_rows(run, stage);
+    (1..=run.stages[stage - 1].layers)
+        .map(|j| {
+            let mine = rows.iter().filter(|r| r.interface == j - 1);
+            (
+                mine.clone()
+                    .map(|r| r.jump_n)
+                    .fold(f64::NEG_INFINITY, f64::max),
+                mine.clone().map(|r| r.slip.abs()).fold(0.0, f64::max),
+                mine.filter(|r| r.status == 0).count(),
+            )
+        })
+        .collect()
+}
+
+/// Per output time of stage `stage` (a layer stage, layer k its last):
+/// the hottest point of layer k's inner and outer surfaces, (time s, its
+/// θ about the axis, T °C); empty for the pressure stage (and if the
+/// surfaces do not pair up, which [`temperature_rows`] reports).
+pub fn layer_surface_peaks(run: &MultilayerRun, stage: usize) -> Vec<(f64, f64, f64)> {
+    let rows = temperature_rows(run, stage).unwrap_or_default();
+    let mut v: Vec<(f64, f64, f64)> = Vec::new();
+    for r in &rows {
+        let hottest = r[3].max(r[4]);
+        match v.last_mut() {
+            Some(last) if last.0 == r[0] => {
+                if hottest > last.2 {
+                    *last = (r[0], r[1], hottest);
+                }
+            }
+            _ => v.push((r[0], r[1], hottest)),
+        }
+    }
+    v
+}
+
 /// The summary of stage `stage` (1-based) as JSON (SI units).
 pub fn stage_summary(run: &MultilayerRun, stage: usize) -> Value {
     let st = &run.stages[stage - 1];
@@ -64,16 +573,25 @@ pub fn stage_summary(run: &MultilayerRun, stage: usize) -> Value {
             })
         })
         .collect();
+    let extremes = interface_extremes(run, stage);
     let interfaces: Vec<Value> = (1..=k)
         .map(|j| {
             let (fe, an) = (st.pressures[j - 1], st.analytical_pressures[j - 1]);
+            let (opening, slip, open) = extremes[j - 1];
             json!({
                 "interface": interface_name(j),
                 "mean_pressure_fe": fe,
                 "pressure_analytical": an,
                 "relative_error": (fe - an) / an,
+                "max_opening_m": opening,
+                "max_abs_slip_m": slip,
+                "open_points": open,
             })
         })
+        .collect();
+    let temperatures: Vec<Value> = layer_surface_peaks(run, stage)
+        .into_iter()
+        .map(|(t, theta, peak)| json!({ "time_s": t, "max_C": peak, "theta_deg": theta }))
         .collect();
     json!({
         "stage": stage,
@@ -86,6 +604,7 @@ pub fn stage_summary(run: &MultilayerRun, stage: usize) -> Value {
         "thermal_steps": st.thermal_steps,
         "max_heat_balance_residual": st.heat_balance,
         "end_time_s": st.state.time,
+        "layer_surface_temperature": temperatures,
     })
 }
 
@@ -123,6 +642,10 @@ pub fn summary(run: &MultilayerRun) -> Value {
 /// First column of the per-stage interface CSVs (then
 /// [`figures::INTERFACE_HEADER`]).
 pub const STAGE_INTERFACE_COLUMN: &str = "interface (1: core/layer 1, k: layer k-1/layer k)";
+
+/// Last column of the per-stage interface CSVs: θ from the centre of the
+/// weld of the layer above the interface (the x of the figures' detail).
+pub const THETA_FROM_WELD_COLUMN: &str = "theta_from_weld_deg (weld of the layer above)";
 
 /// The interface points of stage `k` (1-based): one row per point, merged
 /// where two elements meet, sorted by interface and then by θ about the
@@ -226,38 +749,37 @@ pub fn hoop_figure(run: &MultilayerRun, stage: usize) -> Figure {
     }
 }
 
-/// Figure: every active interface's contact pressure around the
-/// circumference after stage `stage` (one colour per interface), with its
-/// closed-form mean (dashed, same colour).
+/// Figure: every active interface's contact pressure after stage `stage`
+/// (one colour per interface) with its closed-form mean (dashed, same
+/// colour): the detail about the weld of the layer above each interface
+/// beside the whole circumference.
 pub fn pressure_figure(run: &MultilayerRun, stage: usize) -> Figure {
     let st = &run.stages[stage - 1];
-    let rows = stage_interface_rows(run, stage);
-    let half = run.options.half_section();
-    let (lo, hi) = if half { (0.0, 180.0) } else { (-180.0, 180.0) };
-    let mut lines = Vec::new();
-    for j in 1..=st.layers {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.interface == j - 1)
-            .map(|r| (r.theta_deg, r.pressure / 1e6))
-            .collect();
-        lines.push(Line::solid(interface_name(j), j - 1, pts));
-        let p = st.analytical_pressures[j - 1] / 1e6;
-        lines.push(Line::dashed("", j - 1, vec![(lo, p), (hi, p)]));
-    }
+    let panels = interface_panels(
+        run,
+        stage,
+        "contact pressure [MPa]",
+        Vec::new(),
+        |j, pts| {
+            let (lo, hi) = (
+                pts.first().map_or(0.0, |p| p.0),
+                pts.last().map_or(0.0, |p| p.0),
+            );
+            let p = st.analytical_pressures[j - 1] / 1e6;
+            vec![
+                Line::solid(
+                    interface_name(j),
+                    j - 1,
+                    pts.iter().map(|(x, r)| (*x, r.pressure / 1e6)).collect(),
+                ),
+                Line::dashed("", j - 1, vec![(lo, p), (hi, p)]),
+            ]
+        },
+    );
     Figure {
-        title: String::new(),
-        panels: vec![Panel {
-            title: format!(
-                "Contact pressure of every interface, stage {stage} (dashed: closed form)"
-            ),
-            x: Axis::linear("θ about the vessel axis [°] (seam of layer 1 at 0°)").range(lo, hi),
-            y: Axis::linear("contact pressure [MPa]"),
-            lines,
-            legend: LegendAt::UpperRight,
-            ..Default::default()
-        }],
-        size: (1100, 600),
+        title: format!("Contact pressure of every interface, stage {stage} (dashed: closed form)"),
+        panels,
+        size: (1400, 600),
     }
 }
 
@@ -265,6 +787,7 @@ pub fn pressure_figure(run: &MultilayerRun, stage: usize) -> Figure {
 /// names of the files written.
 pub fn write_outputs(run: &MultilayerRun, dir: &Path) -> CliResult<Vec<String>> {
     let mut names = Vec::new();
+    let half = run.options.half_section();
     writers::staged(dir, |tmp| {
         let mut pvd = Vec::new();
         for k in 1..=run.stages.len() {
@@ -287,11 +810,13 @@ pub fn write_outputs(run: &MultilayerRun, dir: &Path) -> CliResult<Vec<String>> 
                     &[
                         &[STAGE_INTERFACE_COLUMN][..],
                         &figures::INTERFACE_HEADER[..],
+                        &[THETA_FROM_WELD_COLUMN][..],
                     ]
                     .concat(),
                     rows.iter().map(|r| {
                         let mut v = vec![(r.interface + 1) as f64];
                         v.extend(figures::interface_values(r));
+                        v.push(from_seam(r.theta_deg, seam_deg(run, r.interface + 1), half));
                         v
                     }),
                 ),
@@ -300,6 +825,29 @@ pub fn write_outputs(run: &MultilayerRun, dir: &Path) -> CliResult<Vec<String>> 
             let stem = format!("stage{k}_interface_pressure");
             pressure_figure(run, k).write_svg_png(&tmp.join(&stem))?;
             names.extend([format!("{stem}.svg"), format!("{stem}.png")]);
+            let stem = format!("stage{k}_interface_opening_slip");
+            writers::write(
+                &tmp.join(format!("{stem}.csv")),
+                &figures::csv_text(&OPENING_SLIP_HEADER, opening_slip_rows(run, k)),
+            )?;
+            opening_slip_figure(run, k).write_svg_png(&tmp.join(&stem))?;
+            names.extend(["csv", "svg", "png"].map(|e| format!("{stem}.{e}")));
+            let stem = format!("stage{k}_hoop_at_seams");
+            writers::write(
+                &tmp.join(format!("{stem}.csv")),
+                &figures::csv_text(&SEAM_PROFILE_HEADER, seam_profile_rows(run, k)),
+            )?;
+            seam_profile_figure(run, k).write_svg_png(&tmp.join(&stem))?;
+            names.extend(["csv", "svg", "png"].map(|e| format!("{stem}.{e}")));
+            if let Some(fig) = temperature_figure(run, k)? {
+                let stem = format!("stage{k}_temperature_circumference");
+                writers::write(
+                    &tmp.join(format!("{stem}.csv")),
+                    &figures::csv_text(&TEMPERATURE_HEADER, temperature_rows(run, k)?),
+                )?;
+                fig.write_svg_png(&tmp.join(&stem))?;
+                names.extend(["csv", "svg", "png"].map(|e| format!("{stem}.{e}")));
+            }
             let name = format!("multilayer_{k:03}.vtu");
             write_state_vtu(&run.mesh, &tmp.join(&name), &st.state)?;
             pvd.push((k as f64, name.clone()));
@@ -383,13 +931,28 @@ pub fn report(run: &MultilayerRun) -> String {
                 100.0 * (st.ring_means[r] - an) / an
             );
         }
+        let extremes = interface_extremes(run, i + 1);
         for j in 1..=k {
             let an = st.analytical_pressures[j - 1];
+            let (opening, slip, open) = extremes[j - 1];
             s += &format!(
-                "  {:>13} mean pressure {:.5} MPa (closed form {:.5} MPa)\n",
+                "  {:>13} mean pressure {:.5} MPa (closed form {:.5} MPa); opening up to {:.2} µm ({open} points open), slip up to {:.2} µm\n",
                 interface_name(j),
                 st.pressures[j - 1] / 1e6,
-                an / 1e6
+                an / 1e6,
+                opening * 1e6,
+                slip * 1e6
+            );
+        }
+        let peaks = layer_surface_peaks(run, i + 1);
+        if let (Some(first), Some(last)) = (peaks.first(), peaks.last()) {
+            s += &format!(
+                "  layer {k} surfaces: hottest {:.1} °C at t = {} s (θ = {:.2}°), {:.2} °C at t = {} s\n",
+                first.2,
+                fmt_value(first.0),
+                first.1,
+                last.2,
+                fmt_value(last.0)
             );
         }
     }

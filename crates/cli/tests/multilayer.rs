@@ -521,7 +521,8 @@ times = [72000.0]
 /// them. Goal: the report (also report.txt) names the layer count, not the
 /// stage count; a yield stress below the weld's stress gives warnings on
 /// stderr and in report.html, and nothing else is called a warning (the
-/// file list once was); every stage has its two figures; the interface CSV
+/// file list once was); every stage has its figures (four, and the
+/// temperature for a layer stage); the interface CSV
 /// has one row per point, sorted by interface and angle; the through-wall
 /// CSV holds element-row means whose area/r-weighted mean is the ring mean
 /// of the summary; a `--mesh` the multilayer run would ignore is refused.
@@ -576,13 +577,23 @@ fn the_layers_run_reports_yield_figures_and_sorted_csvs() {
     );
     assert!(warnings.contains("weld1"), "{warnings}");
     for k in 1..=3 {
-        for f in ["hoop_through_wall", "interface_pressure"] {
+        for f in [
+            "hoop_through_wall",
+            "hoop_at_seams",
+            "interface_pressure",
+            "interface_opening_slip",
+        ] {
             for ext in ["svg", "png", "csv"] {
                 let name = format!("stage{k}_{f}.{ext}");
                 assert!(out.join(&name).is_file(), "{name}");
             }
         }
+        // the temperature figure for the two welds' coolings, not for the
+        // pressure stage
+        let name = format!("stage{k}_temperature_circumference.csv");
+        assert_eq!(out.join(&name).is_file(), k < 3, "{name}");
     }
+    assert!(text.contains("opening up to") && text.contains("layer 2 surfaces: hottest"));
     // interface rows: sorted by (interface, θ), one per point
     let csv = std::fs::read_to_string(out.join("stage3_interface_pressure.csv")).unwrap();
     let rows: Vec<Vec<f64>> = csv
