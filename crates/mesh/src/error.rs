@@ -427,7 +427,7 @@ impl GmshRefs {
         if self.is_empty() {
             ""
         } else {
-            "; in Gmsh, let the surfaces share their curves (Coherence, or BooleanFragments with the OpenCASCADE kernel) or remove duplicate nodes (Mesh.RemoveDuplicateNodes / Tools > Remove duplicate nodes)"
+            "; in Gmsh, let the surfaces share their curves (Coherence, or BooleanFragments with the OpenCASCADE kernel) or merge the duplicate nodes after meshing (`Coherence Mesh;` in a .geo file, gmsh.model.mesh.removeDuplicateNodes() in Python)"
         }
     }
 }
