@@ -495,6 +495,12 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     crate::probes::check_inside(&mesh, &case.output.probes, "output.probes")
         .map_err(|e| err(f, e))?;
     setup::declare_interfaces(case, &mut mesh)?;
+    // bodies touching without an interface, a Gmsh mesh that looks like mm, ...
+    let mesh_warnings: Vec<String> = mesh
+        .warnings()
+        .iter()
+        .map(|w| format!("mesh: {w}"))
+        .collect();
     let tie = setup::tie(case, &mesh)?;
     let (outcome, joints, al, analysis, probes, bound_violation) = {
         let p = setup::prepare(case, &mesh, tie.as_ref())?;
@@ -568,6 +574,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                 .and_then(|m| m.yield_stress)
         });
     summary["yield_check"] = checks;
+    let warnings: Vec<String> = mesh_warnings.into_iter().chain(warnings).collect();
     if !warnings.is_empty() {
         summary["warnings"] = json!(warnings);
     }
@@ -759,7 +766,7 @@ pub fn run(args: RunArgs) -> CliResult<()> {
     Ok(())
 }
 
-/// The warnings of a case's summary (a yield stress exceeded).
+/// The warnings of a case's summary (the mesh's, a yield stress exceeded).
 fn warnings(summary: &Value) -> Vec<&str> {
     summary["warnings"]
         .as_array()

@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-use crate::error::MeshError;
+use crate::error::{GmshRefs, MeshError};
 use crate::mesh::{Body, COINCIDENCE_TOLERANCE, Point};
 
 /// A hasher for integer keys (node ids, edges): multiply-xor per word and a
@@ -185,6 +185,7 @@ pub(crate) fn check_duplicates<T: AsRef<[usize]>>(
                 x: nodes[i][0],
                 y: nodes[i][1],
                 region: region_names[r].clone(),
+                gmsh: GmshRefs::NONE,
             });
         }
     }

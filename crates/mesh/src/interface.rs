@@ -1,11 +1,11 @@
 //! Interfaces: pairing the facing nodes of two edge sets into 4-node (P1) or
 //! 6-node (P2: 4 corners and two facing mid nodes) interface elements.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use crate::checks::{PointGrid, dist};
-use crate::error::MeshError;
-use crate::mesh::Mesh;
+use crate::error::{GmshRefs, MeshError};
+use crate::mesh::{Mesh, MeshNotice};
 
 /// A named interface: ordered interface elements joining two bodies.
 ///
@@ -74,8 +74,20 @@ impl Mesh {
     /// Each bottom edge becomes one interface element (see [`Interface`]);
     /// its nodes must face (coincide with) nodes of the top set within the
     /// tolerance, and the facing nodes must form an edge of the top set. On a
-    /// P2 mesh the two mid nodes must face each other too.
+    /// P2 mesh the two mid nodes must face each other too. On a mesh read
+    /// from a Gmsh file the errors name the nodes also by their Gmsh tags.
     pub fn add_interface_with(
+        &mut self,
+        name: &str,
+        bottom_set: &str,
+        top_set: &str,
+        tolerance: PairingTolerance,
+    ) -> Result<(), MeshError> {
+        self.pair_interface(name, bottom_set, top_set, tolerance)
+            .map_err(|e| self.tagged(e))
+    }
+
+    fn pair_interface(
         &mut self,
         name: &str,
         bottom_set: &str,
@@ -144,6 +156,7 @@ impl Mesh {
                             distance: nearest
                                 .map_or(f64::INFINITY, |p| dist(self.nodes[p], self.nodes[v])),
                             tolerance: tol,
+                            gmsh: GmshRefs::NONE,
                         }
                     })
             };
@@ -157,6 +170,7 @@ impl Mesh {
                     b,
                     c: n3,
                     d: n4,
+                    gmsh: GmshRefs::NONE,
                 });
             }
             if n1 == n4 && n2 == n3 {
@@ -164,6 +178,7 @@ impl Mesh {
                     interface: name.into(),
                     a,
                     b,
+                    gmsh: GmshRefs::NONE,
                 });
             }
             elements.push([n1, n2, n3, n4]);
@@ -173,6 +188,7 @@ impl Mesh {
                         set: name.into(),
                         a: p,
                         b: q,
+                        gmsh: GmshRefs::NONE,
                     })
                 };
                 let (mb, mt) = (mid(n1, n2)?, mid(n4, n3)?);
@@ -185,6 +201,7 @@ impl Mesh {
                         top: mt,
                         distance: d,
                         tolerance: tol,
+                        gmsh: GmshRefs::NONE,
                     });
                 }
                 mid_nodes.push([mb, mt]);
@@ -200,5 +217,87 @@ impl Mesh {
             },
         );
         Ok(())
+    }
+}
+
+impl Mesh {
+    /// Pairs of bodies whose boundaries touch at coincident nodes that no
+    /// interface joins, one [`MeshNotice::UnjoinedTouchingBodies`] per pair
+    /// of bodies (ordered by body).
+    ///
+    /// Two nodes coincide when they are closer than
+    /// [`DEFAULT_PAIRING_TOLERANCE`] × the shorter of the shortest triangle
+    /// edges at either node, the tolerance interfaces pair with by default
+    /// (Gmsh's separately meshed curves place facing nodes a few nm apart).
+    /// A pair is joined when an interface element has the two nodes facing
+    /// each other. Such bodies run as separate bodies, which may be meant
+    /// (two parts apart), or may be a forgotten `[[interface]]` or an
+    /// unmerged mesh.
+    pub fn unjoined_touching_bodies(&self) -> Vec<MeshNotice> {
+        if self.bodies.len() < 2 {
+            return Vec::new();
+        }
+        let n = self.nodes.len();
+        let mut size = vec![f64::INFINITY; n];
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let l = dist(self.nodes[a], self.nodes[b]);
+                size[a] = size[a].min(l);
+                size[b] = size[b].min(l);
+            }
+        }
+        let tol_at = |v: usize| DEFAULT_PAIRING_TOLERANCE * size[v];
+        // the corners (the mid nodes of a P2 mesh follow their edges)
+        let corners: Vec<usize> = (0..n).filter(|&v| size[v].is_finite()).collect();
+        let max_tol = corners.iter().map(|&v| tol_at(v)).fold(0.0, f64::max);
+        let grid = PointGrid::new(&self.nodes, &corners, max_tol);
+        let mut joined: HashSet<(usize, usize)> = HashSet::new();
+        let key = |a: usize, b: usize| (a.min(b), a.max(b));
+        for itf in self.interfaces.values() {
+            for &[n1, n2, n3, n4] in &itf.elements {
+                joined.insert(key(n1, n4));
+                joined.insert(key(n2, n3));
+            }
+            for &[b, t] in &itf.mid_nodes {
+                joined.insert(key(b, t));
+            }
+        }
+        // (body, body) -> (count, first pair)
+        let mut found: BTreeMap<(usize, usize), (usize, (usize, usize))> = BTreeMap::new();
+        let mut pairs = grid.close_pairs(&self.nodes, max_tol);
+        pairs.sort_unstable();
+        for (i, j) in pairs {
+            let (bi, bj) = (self.node_body[i], self.node_body[j]);
+            if bi == bj
+                || dist(self.nodes[i], self.nodes[j]) > tol_at(i).min(tol_at(j))
+                || joined.contains(&key(i, j))
+            {
+                continue;
+            }
+            let (i, j, bi, bj) = if bi < bj {
+                (i, j, bi, bj)
+            } else {
+                (j, i, bj, bi)
+            };
+            found.entry((bi, bj)).or_insert((0, (i, j))).0 += 1;
+        }
+        found
+            .into_iter()
+            .map(
+                |((bi, bj), (count, (i, j)))| MeshNotice::UnjoinedTouchingBodies {
+                    first: self.bodies[bi].name.clone(),
+                    second: self.bodies[bj].name.clone(),
+                    pairs: count,
+                    example: format!(
+                        "{} and {} at ({}, {})",
+                        self.node_label(i),
+                        self.node_label(j),
+                        self.nodes[i][0],
+                        self.nodes[i][1]
+                    ),
+                },
+            )
+            .collect()
     }
 }

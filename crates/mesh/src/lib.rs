@@ -33,7 +33,7 @@ pub mod quadratic;
 pub mod vessel;
 pub mod vtk;
 
-pub use error::MeshError;
+pub use error::{GmshRefs, GmshTags, MeshError};
 pub use generators::{
     RingLayer, layered_annulus, layered_annulus_of_order, rectangle, rectangle_of_order,
 };

@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 
 use crate::checks::{IdMap, check_duplicates, find_bodies, longest_edge_sq, unknown};
-use crate::error::MeshError;
+use crate::error::{GmshRefs, GmshTags, MeshError};
 pub use crate::interface::Interface;
 
 /// A 2D point `[x, y]`.
@@ -28,6 +28,43 @@ pub enum MeshNotice {
         /// How many.
         count: usize,
     },
+    /// A physical point of a Gmsh file on a node that no triangle uses: left
+    /// out of the node set named after its group.
+    PointOffMesh {
+        /// The physical point's name.
+        group: String,
+        /// Gmsh tag of its node.
+        node_tag: u64,
+        /// x coordinate.
+        x: f64,
+        /// y coordinate.
+        y: f64,
+    },
+    /// A Gmsh mesh so large in metres that it is probably in millimetres.
+    LooksLikeMillimetres {
+        /// The largest extent of its bounding box.
+        size: f64,
+    },
+    /// Two bodies whose boundaries have coincident nodes that no interface
+    /// joins (see [`Mesh::unjoined_touching_bodies`]).
+    UnjoinedTouchingBodies {
+        /// The first body's name (its regions joined by `+`).
+        first: String,
+        /// The second body's name.
+        second: String,
+        /// How many pairs of coincident nodes no interface joins.
+        pairs: usize,
+        /// One such pair, as "node 3 and node 40 at (1, 0.5)".
+        example: String,
+    },
+}
+
+impl MeshNotice {
+    /// Whether the notice is a warning (something may be wrong with the
+    /// model) rather than a note on what the constructor did.
+    pub fn is_warning(&self) -> bool {
+        !matches!(self, MeshNotice::ReorientedTriangles { .. })
+    }
 }
 
 impl std::fmt::Display for MeshNotice {
@@ -36,6 +73,28 @@ impl std::fmt::Display for MeshNotice {
             MeshNotice::ReorientedTriangles { count } => write!(
                 f,
                 "{count} clockwise triangle(s) were renumbered counter-clockwise"
+            ),
+            MeshNotice::PointOffMesh {
+                group,
+                node_tag,
+                x,
+                y,
+            } => write!(
+                f,
+                "physical point '{group}': its node (Gmsh node tag {node_tag}) at ({x}, {y}) is no node of a triangle, so node set '{group}' leaves it out (embed the point in its surface before meshing: Gmsh `Point{{..}} In Surface{{..}};` or gmsh.model.mesh.embed)"
+            ),
+            MeshNotice::LooksLikeMillimetres { size } => write!(
+                f,
+                "the mesh is {size} across: does it use millimetres? Tecon takes every length in metres, like the SI material data (Pa, W/(m K), ...), so a mesh in millimetres gives results off by factors of 1000 without any error. To convert it, set Gmsh's option Mesh.ScalingFactor = 0.001 before saving the mesh (gmsh.option.setNumber(\"Mesh.ScalingFactor\", 0.001) in Python; -setnumber Mesh.ScalingFactor 0.001 on the command line) or scale the CAD model; ignore this if the structure really is that large"
+            ),
+            MeshNotice::UnjoinedTouchingBodies {
+                first,
+                second,
+                pairs,
+                example,
+            } => write!(
+                f,
+                "bodies '{first}' and '{second}' touch at {pairs} pair(s) of coincident nodes (e.g. {example}) that no interface joins: they are separate bodies and no force or heat passes between them. If they should act together, declare an [[interface]] between their two faces (bottom and top edge sets) or merge the nodes in the mesh; if they are meant to be apart, ignore this"
             ),
         }
     }
@@ -64,6 +123,8 @@ pub struct Mesh {
     pub(crate) node_body: Vec<usize>,
     pub(crate) bodies: Vec<Body>,
     pub(crate) notices: Vec<MeshNotice>,
+    /// A mesh read from a Gmsh file: its node and element tags.
+    pub(crate) gmsh: Option<Box<GmshTags>>,
 }
 
 /// Relative tolerance (to the mesh's bounding-box size) for coincident nodes.
@@ -97,6 +158,7 @@ impl Mesh {
                     node: i,
                     x: p[0],
                     y: p[1],
+                    gmsh: GmshRefs::NONE,
                 });
             }
         }
@@ -139,6 +201,7 @@ impl Mesh {
                     element: e,
                     area,
                     nodes: *t,
+                    gmsh: GmshRefs::NONE,
                 });
             }
             if area < 0.0 {
@@ -157,6 +220,7 @@ impl Mesh {
                 node: i,
                 x: nodes[i][0],
                 y: nodes[i][1],
+                gmsh: GmshRefs::NONE,
             });
         }
         let (node_body, bodies) = find_bodies(n, &triangles, &element_region, &region_names);
@@ -178,6 +242,7 @@ impl Mesh {
             node_body,
             bodies,
             notices,
+            gmsh: None,
         })
     }
 
@@ -234,11 +299,7 @@ impl Mesh {
         self.region_names
             .iter()
             .position(|r| r == name)
-            .ok_or_else(|| MeshError::UnknownName {
-                kind: "region",
-                name: name.into(),
-                available: self.region_names.join(", "),
-            })
+            .ok_or_else(|| self.missing("region", name, self.region_names.iter()))
     }
 
     /// Triangles of the region called `name`.
@@ -249,9 +310,82 @@ impl Mesh {
             .collect())
     }
 
-    /// Notices produced when the mesh was built.
+    /// The Gmsh tags of a mesh read from a .msh file (`None` for a
+    /// generated mesh).
+    pub fn gmsh_tags(&self) -> Option<&GmshTags> {
+        self.gmsh.as_deref()
+    }
+
+    /// "node 17", or "node 17 (Gmsh node tag 1234)" on a mesh read from a
+    /// Gmsh file: how messages name a node so that the user finds it.
+    pub fn node_label(&self, i: usize) -> String {
+        match self.gmsh.as_ref().and_then(|g| g.node(i)) {
+            Some(t) => format!("node {i} (Gmsh node tag {t})"),
+            None => format!("node {i}"),
+        }
+    }
+
+    /// "triangle 5", or "triangle 5 (Gmsh element tag 901)" on a mesh read
+    /// from a Gmsh file.
+    pub fn triangle_label(&self, e: usize) -> String {
+        match self.gmsh.as_ref().and_then(|g| g.element(e)) {
+            Some(t) => format!("triangle {e} (Gmsh element tag {t})"),
+            None => format!("triangle {e}"),
+        }
+    }
+
+    /// The error naming its nodes and triangles also by their Gmsh tags
+    /// (on a mesh read from a Gmsh file; otherwise unchanged).
+    pub(crate) fn tagged(&self, e: MeshError) -> MeshError {
+        match &self.gmsh {
+            Some(g) => e.with_gmsh_tags(g),
+            None => e,
+        }
+    }
+
+    /// The error for a name that is not there: an empty physical group of
+    /// the Gmsh file says so, any other name lists the names that exist.
+    fn missing<'a>(
+        &self,
+        kind: &'static str,
+        name: &str,
+        keys: impl Iterator<Item = &'a String>,
+    ) -> MeshError {
+        let e = unknown(kind, name, keys);
+        let empty = self
+            .gmsh
+            .as_ref()
+            .and_then(|g| g.empty_groups.iter().find(|(_, n)| n == name));
+        match (empty, e) {
+            (Some((dim, _)), MeshError::UnknownName { available, .. }) => MeshError::EmptyGroup {
+                kind,
+                name: name.into(),
+                dim: *dim,
+                available,
+            },
+            (_, e) => e,
+        }
+    }
+
+    /// Notices produced when the mesh was built (and, for a Gmsh file,
+    /// when it was read: physical points off the mesh, a size that looks
+    /// like millimetres).
     pub fn notices(&self) -> &[MeshNotice] {
         &self.notices
+    }
+
+    /// The warnings a run should print once its interfaces are declared: the
+    /// notices that are warnings ([`MeshNotice::is_warning`]) and the bodies
+    /// that touch without an interface ([`Mesh::unjoined_touching_bodies`]).
+    pub fn warnings(&self) -> Vec<MeshNotice> {
+        let mut out: Vec<MeshNotice> = self
+            .notices
+            .iter()
+            .filter(|n| n.is_warning())
+            .cloned()
+            .collect();
+        out.extend(self.unjoined_touching_bodies());
+        out
     }
 
     /// The connected bodies.
@@ -284,7 +418,7 @@ impl Mesh {
         self.edge_sets
             .get(name)
             .map(|v| v.as_slice())
-            .ok_or_else(|| unknown("edge set", name, self.edge_sets.keys()))
+            .ok_or_else(|| self.missing("edge set", name, self.edge_sets.keys()))
     }
 
     /// The node set called `name`.
@@ -292,14 +426,14 @@ impl Mesh {
         self.node_sets
             .get(name)
             .map(|v| v.as_slice())
-            .ok_or_else(|| unknown("node set", name, self.node_sets.keys()))
+            .ok_or_else(|| self.missing("node set", name, self.node_sets.keys()))
     }
 
     /// The interface called `name`.
     pub fn interface(&self, name: &str) -> Result<&Interface, MeshError> {
         self.interfaces
             .get(name)
-            .ok_or_else(|| unknown("interface", name, self.interfaces.keys()))
+            .ok_or_else(|| self.missing("interface", name, self.interfaces.keys()))
     }
 
     /// Adds (or replaces) an edge set.
@@ -330,11 +464,12 @@ impl Mesh {
                 // An interior edge (both directions exist): keep as given.
                 (true, true) => out.push([a, b]),
                 (false, false) => {
-                    return Err(MeshError::EdgeNotInMesh {
+                    return Err(self.tagged(MeshError::EdgeNotInMesh {
                         set: name.into(),
                         a,
                         b,
-                    });
+                        gmsh: GmshRefs::NONE,
+                    }));
                 }
             }
         }

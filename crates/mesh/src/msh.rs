@@ -8,21 +8,35 @@
 //!   first element of the other order.
 //! * 2-node lines (type 1; type 8, 3-node lines, in a P2 file) of physical
 //!   curve groups become edge sets named after the group (corner pairs; the
-//!   mid node of a 3-node line must be its edge's mid node).
-//! * Points (type 15) are ignored; every other element type is an error.
+//!   mid node of a 3-node line must be its edge's mid node). A curve may be
+//!   in several physical curves: its lines are in each of their edge sets.
+//! * A surface in two physical surfaces (of different names) is an error
+//!   naming both: a triangle belongs to one region.
+//! * Points (type 15) of physical point groups become node sets named after
+//!   the group; a point whose node no triangle uses is left out, with a
+//!   [`MeshNotice::PointOffMesh`]. A physical point named like a physical
+//!   curve is an error (sets are looked up by name). Every other element
+//!   type is an error.
 //! * Nodes that no triangle uses are dropped and the rest renumbered in file
-//!   order (Gmsh also writes the nodes of geometric points and curves).
+//!   order (Gmsh also writes the nodes of geometric points and curves). The
+//!   mesh keeps the Gmsh node tag of each node and element tag of each
+//!   triangle ([`Mesh::gmsh_tags`]); errors name both numbers.
+//! * Physical groups declared in the file that hold no element Tecon reads
+//!   are remembered: looking one up gives [`MeshError::EmptyGroup`] (with
+//!   its dimension) instead of "no such name".
+//! * A mesh more than [`MILLIMETRE_HINT_SIZE`] across gets a
+//!   [`MeshNotice::LooksLikeMillimetres`].
 //! * Node tags: when mshio reports dense tags, they are taken to run
 //!   consecutively through the node blocks in file order, which is how Gmsh
 //!   writes them.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 
 use mshio::mshfile::ElementType;
 
-use crate::error::MeshError;
-use crate::mesh::Mesh;
+use crate::error::{GmshTags, MeshError};
+use crate::mesh::{Mesh, MeshNotice};
 
 /// Reads a Gmsh MSH 4.1 file (ASCII or binary).
 pub fn read_msh(path: impl AsRef<Path>) -> Result<Mesh, MeshError> {
@@ -69,28 +83,52 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
     })?;
     let names = physical_names(bytes);
     let entities = file.data.entities.as_ref();
-    let surface_groups: HashMap<i32, Vec<i32>> = entities
-        .map(|e| {
-            e.surfaces
+    let groups_of = |dim: i32| -> HashMap<i32, Vec<i32>> {
+        let Some(e) = entities else {
+            return HashMap::new();
+        };
+        match dim {
+            0 => e
+                .points
                 .iter()
-                .map(|s| (s.tag, s.physical_tags.clone()))
-                .collect()
-        })
-        .unwrap_or_default();
-    let curve_groups: HashMap<i32, Vec<i32>> = entities
-        .map(|e| {
-            e.curves
+                .map(|p| (p.tag, p.physical_tags.clone()))
+                .collect(),
+            1 => e
+                .curves
                 .iter()
                 .map(|c| (c.tag, c.physical_tags.clone()))
-                .collect()
-        })
-        .unwrap_or_default();
+                .collect(),
+            _ => e
+                .surfaces
+                .iter()
+                .map(|s| (s.tag, s.physical_tags.clone()))
+                .collect(),
+        }
+    };
+    let point_groups = groups_of(0);
+    let curve_groups = groups_of(1);
+    let surface_groups = groups_of(2);
     let group_name = |dim: i32, tag: i32| {
         names
             .get(&(dim, tag))
             .cloned()
             .unwrap_or_else(|| format!("physical_{dim}_{tag}"))
     };
+    // Every physical group the file declares: (dim, tag); those that receive
+    // an element Tecon reads are `filled`, the others are empty.
+    let mut declared: BTreeSet<(i32, i32)> = names.keys().copied().collect();
+    for (dim, map) in [(0, &point_groups), (1, &curve_groups), (2, &surface_groups)] {
+        declared.extend(map.values().flatten().map(|&g| (dim, g.abs())));
+    }
+    if let Some(e) = entities {
+        declared.extend(
+            e.volumes
+                .iter()
+                .flat_map(|v| &v.physical_tags)
+                .map(|&g| (3, g.abs())),
+        );
+    }
+    let mut filled: BTreeSet<(i32, i32)> = BTreeSet::new();
 
     // Nodes: tag -> (x, y).
     let nodes_sec = file
@@ -100,6 +138,7 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
         .ok_or_else(|| content("the file has no $Nodes section".into()))?;
     let mut tag_to_file_index: HashMap<u64, usize> = HashMap::new();
     let mut coords = Vec::new();
+    let mut file_tags: Vec<u64> = Vec::new();
     let mut next_dense = nodes_sec.min_node_tag;
     for block in &nodes_sec.node_blocks {
         let mut by_index: Vec<u64> = vec![0; block.nodes.len()];
@@ -124,12 +163,13 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
                 && node.z.abs() > 1e-12 * (node.x.abs() + node.y.abs() + 1.0)
             {
                 return Err(content(format!(
-                    "node {} has z = {}; Tecon takes planar meshes in the x-y plane",
+                    "Gmsh node tag {} has z = {}; Tecon takes planar meshes in the x-y plane",
                     by_index[k], node.z
                 )));
             }
             tag_to_file_index.insert(by_index[k], coords.len());
             coords.push([node.x, node.y]);
+            file_tags.push(by_index[k]);
         }
     }
 
@@ -141,7 +181,7 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
     let lookup = |tag: u64, elem: u64| {
         tag_to_file_index.get(&tag).copied().ok_or_else(|| {
             content(format!(
-                "element {elem} refers to node tag {tag}, which is not in $Nodes"
+                "element tag {elem} refers to node tag {tag}, which is not in $Nodes"
             ))
         })
     };
@@ -159,19 +199,44 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
         ))
     };
     let mut tris_file: Vec<[usize; 6]> = Vec::new();
+    let mut tri_tags: Vec<u64> = Vec::new();
     let mut tri_region_name: Vec<String> = Vec::new();
-    let mut edge_sets_file: BTreeMap<String, Vec<[usize; 3]>> = BTreeMap::new();
+    // per physical curve: (line nodes, line element tag)
+    let mut edge_sets_file: BTreeMap<String, Vec<([usize; 3], u64)>> = BTreeMap::new();
+    // per physical point: (group tag, [(file node index, point element tag)])
+    let mut node_sets_file: BTreeMap<String, (i32, Vec<(usize, u64)>)> = BTreeMap::new();
     for block in &elements.element_blocks {
         let ty = block.element_type as u32;
         match block.element_type {
             ElementType::Tri3 | ElementType::Tri6 => {
                 let n = if ty == 2 { 3 } else { 6 };
-                let groups = surface_groups
-                    .get(&block.entity_tag)
-                    .cloned()
-                    .unwrap_or_default();
+                // the surface's physical groups, one per name
+                let mut groups: Vec<(i32, String)> = Vec::new();
+                for &g in surface_groups.get(&block.entity_tag).into_iter().flatten() {
+                    let name = group_name(2, g.abs());
+                    if !groups.iter().any(|(_, m)| *m == name) {
+                        groups.push((g.abs(), name));
+                    }
+                }
+                if groups.len() > 1 && !block.elements.is_empty() {
+                    let list: Vec<String> = groups
+                        .iter()
+                        .map(|(g, name)| format!("'{name}' (tag {g})"))
+                        .collect();
+                    return Err(content(format!(
+                        "surface {} is in {} physical surfaces, {}; its triangles would belong to several regions, but a triangle belongs to one region (one material): keep the surface in one physical surface (a region of several surfaces lists them all in its one Physical Surface; a region inside another is a surface of its own, cut out of the other)",
+                        block.entity_tag,
+                        groups.len(),
+                        list.join(" and ")
+                    )));
+                }
                 let region = match groups.first() {
-                    Some(&g) => group_name(2, g.abs()),
+                    Some((g, name)) => {
+                        if !block.elements.is_empty() {
+                            filled.insert((2, *g));
+                        }
+                        name.clone()
+                    }
                     None => format!("surface_{}", block.entity_tag),
                 };
                 for el in &block.elements {
@@ -194,15 +259,21 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
                         *slot = lookup(tag, el.element_tag)?;
                     }
                     tris_file.push(t);
+                    tri_tags.push(el.element_tag);
                     tri_region_name.push(region.clone());
                 }
             }
             ElementType::Lin2 | ElementType::Lin3 => {
                 let n = if ty == 1 { 2 } else { 3 };
+                // a curve may be in several physical curves: its lines go
+                // into each of their edge sets
                 let groups = curve_groups
                     .get(&block.entity_tag)
                     .cloned()
                     .unwrap_or_default();
+                if !block.elements.is_empty() {
+                    filled.extend(groups.iter().map(|g| (1, g.abs())));
+                }
                 for el in &block.elements {
                     match first_line {
                         None => first_line = Some((el.element_tag, ty)),
@@ -226,11 +297,29 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
                         edge_sets_file
                             .entry(group_name(1, g.abs()))
                             .or_default()
-                            .push(e);
+                            .push((e, el.element_tag));
                     }
                 }
             }
-            ElementType::Pnt => {}
+            ElementType::Pnt => {
+                let groups = point_groups
+                    .get(&block.entity_tag)
+                    .cloned()
+                    .unwrap_or_default();
+                for el in &block.elements {
+                    let Some(&tag) = el.nodes.first() else {
+                        continue;
+                    };
+                    let v = lookup(tag, el.element_tag)?;
+                    for &g in &groups {
+                        node_sets_file
+                            .entry(group_name(0, g.abs()))
+                            .or_insert_with(|| (g.abs(), Vec::new()))
+                            .1
+                            .push((v, el.element_tag));
+                    }
+                }
+            }
             other => {
                 return Err(MeshError::UnsupportedElement {
                     path: path.to_path_buf(),
@@ -269,12 +358,60 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
         }
     }
     let mut nodes = Vec::new();
+    let mut node_tags = Vec::new();
     for (i, id) in new_id.iter_mut().enumerate() {
         if *id == 0 {
             *id = nodes.len();
             nodes.push(coords[i]);
+            node_tags.push(file_tags[i]);
         }
     }
+    // Physical points: node sets of the points that are nodes of the mesh.
+    let mut notices = Vec::new();
+    let mut node_sets: Vec<(String, Vec<usize>)> = Vec::new();
+    for (name, (g, points)) in node_sets_file {
+        let mut ids = Vec::new();
+        for (v, _) in points {
+            match new_id[v] {
+                usize::MAX => notices.push(MeshNotice::PointOffMesh {
+                    group: name.clone(),
+                    node_tag: file_tags[v],
+                    x: coords[v][0],
+                    y: coords[v][1],
+                }),
+                id => ids.push(id),
+            }
+        }
+        if ids.is_empty() {
+            continue;
+        }
+        if edge_sets_file.contains_key(&name) {
+            return Err(content(format!(
+                "'{name}' names both a physical point and a physical curve; Tecon looks node sets and edge sets up by name (as `set` of [[mechanical.fix]]): rename one of them"
+            )));
+        }
+        filled.insert((0, g));
+        node_sets.push((name, ids));
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &nodes {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    if size > MILLIMETRE_HINT_SIZE {
+        notices.push(MeshNotice::LooksLikeMillimetres { size });
+    }
+    let tags = GmshTags {
+        nodes: node_tags,
+        elements: tri_tags,
+        empty_groups: declared
+            .difference(&filled)
+            .map(|&(dim, g)| (dim, group_name(dim, g)))
+            .collect(),
+    };
     let mut region_names: Vec<String> = Vec::new();
     let regions: Vec<usize> = tri_region_name
         .iter()
@@ -296,24 +433,29 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
             .collect();
         Mesh::new(nodes, triangles, regions, region_names)
     }
-    .map_err(|e| content(e.to_string()))?;
+    .map_err(|e| content(e.with_gmsh_tags(&tags).to_string()))?;
+    mesh.gmsh = Some(Box::new(tags));
+    mesh.notices.extend(notices);
     for (name, edges) in edge_sets_file {
         let mut mapped = Vec::with_capacity(edges.len());
-        for e in edges {
-            let ids: Vec<usize> = e
+        for (e, line) in edges {
+            let k = if quadratic { 3 } else { 2 };
+            let ids: Vec<usize> = e.iter().take(k).map(|&v| new_id[v]).collect();
+            let line_tags: Vec<String> = e
                 .iter()
-                .take(if quadratic { 3 } else { 2 })
-                .map(|&v| new_id[v])
+                .take(k)
+                .map(|&v| file_tags[v].to_string())
                 .collect();
             if ids.contains(&usize::MAX) {
                 return Err(content(format!(
-                    "physical curve '{name}' has a line whose nodes belong to no triangle"
+                    "physical curve '{name}': line element {line} (Gmsh node tags {}) has a node that no triangle uses (is the curve on the boundary of a meshed surface?)",
+                    line_tags.join(", ")
                 )));
             }
             if quadratic && mesh.edge_mid_node(ids[0], ids[1]) != Some(ids[2]) {
                 return Err(content(format!(
-                    "physical curve '{name}': the 3-node line ({}, {}, {}) does not match a triangle edge and its mid node",
-                    ids[0], ids[1], ids[2]
+                    "physical curve '{name}': the 3-node line element {line} (Gmsh node tags {}) does not match a triangle edge and its mid node",
+                    line_tags.join(", ")
                 )));
             }
             mapped.push([ids[0], ids[1]]);
@@ -321,8 +463,16 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, MeshError> {
         mesh.add_edge_set(&name, mapped)
             .map_err(|e| content(e.to_string()))?;
     }
+    for (name, ids) in node_sets {
+        mesh.add_node_set(&name, ids)
+            .map_err(|e| content(e.to_string()))?;
+    }
     Ok(mesh)
 }
+
+/// A Gmsh mesh larger than this (metres, the largest extent of its bounding
+/// box) gets a notice that it may be in millimetres.
+pub const MILLIMETRE_HINT_SIZE: f64 = 50.0;
 
 /// Words for the Gmsh element types Tecon reads.
 fn type_words(ty: u32) -> &'static str {

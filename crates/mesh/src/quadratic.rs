@@ -152,6 +152,7 @@ impl Mesh {
                     node: i,
                     x: p[0],
                     y: p[1],
+                    gmsh: Default::default(),
                 });
             }
         }
@@ -196,6 +197,7 @@ impl Mesh {
                     element: e,
                     area,
                     nodes: [t[0], t[1], t[2]],
+                    gmsh: Default::default(),
                 });
             }
             if area < 0.0 {
@@ -211,6 +213,7 @@ impl Mesh {
                         element: e,
                         node: t[k],
                         det_ratio: det / (2.0 * scale),
+                        gmsh: Default::default(),
                     });
                 }
             }
@@ -235,6 +238,7 @@ impl Mesh {
                     b: key.1,
                     mid,
                     reason: other,
+                    gmsh: Default::default(),
                 };
                 if is_corner[mid] {
                     return Err(bad("it is also a corner node of a triangle".into()));
@@ -267,6 +271,7 @@ impl Mesh {
                 node: i,
                 x: nodes[i][0],
                 y: nodes[i][1],
+                gmsh: Default::default(),
             });
         }
         let (node_body, bodies) = find_bodies(n, &triangles6, &element_region, &region_names);
@@ -288,6 +293,7 @@ impl Mesh {
             node_body,
             bodies,
             notices,
+            gmsh: None,
         })
     }
 
@@ -379,6 +385,7 @@ impl Mesh {
             self.region_names.clone(),
         )?;
         out.notices = self.notices.clone();
+        out.gmsh = self.gmsh.clone();
         out.edge_sets = self.edge_sets.clone();
         for (name, set) in &self.node_sets {
             let mut set = set.clone();
@@ -407,6 +414,7 @@ impl Mesh {
                         top: mt,
                         distance: d,
                         tolerance: tol,
+                        gmsh: Default::default(),
                     });
                 }
                 mid_nodes.push([mb, mt]);

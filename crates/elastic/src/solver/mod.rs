@@ -440,7 +440,8 @@ impl<'a> StaticSolver<'a> {
                     nodes,
                 });
                 self.notes.push(format!(
-                    "{description} was free: fixed u_{c} = 0 at node {node} of body '{b}' (a minimal constraint); output displacements are then shifted so that the mean u_{c} of body '{b}' is zero",
+                    "{description} was free: fixed u_{c} = 0 at {n} of body '{b}' (a minimal constraint); output displacements are then shifted so that the mean u_{c} of body '{b}' is zero",
+                    n = self.model.mesh.node_label(node),
                     c = if c == 0 { "x" } else { "y" },
                     b = bodies[0]
                 ));

@@ -29,6 +29,23 @@ writes only the second-order and curved-interface meshes (and leaves the others)
   vessel_sector_lc002_p2.msh   the same over 3°, second order
   mixed_orders.msh     written by hand: one 6-node and one 3-node triangle
   rings_reference.json counts and facing distances computed here from Gmsh's data
+
+    python3 make_msh.py diagnostics
+
+writes only the meshes of the import diagnostics (tests/gmsh_messages.rs):
+  groups.msh           unit square (surface plate); curve y = 0 in two physical
+                       curves (bottom, supported), x = 1 in supported; physical
+                       points corner (0, 0) and centre (0.5, 0.5, a point not
+                       embedded in the surface); physical curve ghost and
+                       physical volume vol that hold no entity (as after an
+                       OpenCASCADE boolean renumbers the entities)
+  surface_two_groups.msh  unit square in two physical surfaces, plate and steel
+  unmerged.msh         two unit squares side by side, each with its own points
+                       and curves, in one physical surface plate (coincident
+                       nodes on x = 1 within one region)
+  plate_mm.msh         a 200 x 100 plate drawn in millimetres (surface plate,
+                       curves left, right)
+  plate_m.msh          the same, saved with Mesh.ScalingFactor = 0.001 (metres)
 """
 import json
 import math
@@ -258,7 +275,77 @@ def ring_meshes():
         json.dump(ref, f, indent=2)
 
 
+def write41(name):
+    gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+    gmsh.option.setNumber("Mesh.Binary", 0)
+    gmsh.write(name)
+
+
+def square(g, x0, y0, w, h, lc):
+    p = [g.addPoint(x, y, 0, lc) for (x, y) in [(x0, y0), (x0 + w, y0), (x0 + w, y0 + h), (x0, y0 + h)]]
+    ls = [g.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]
+    return g.addPlaneSurface([g.addCurveLoop(ls)]), ls, p
+
+
+def diagnostic_meshes():
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+
+    gmsh.model.add("groups")
+    g = gmsh.model.geo
+    s, ls, p = square(g, 0, 0, 1, 1, 0.5)
+    centre = g.addPoint(0.5, 0.5, 0, 0.5)
+    g.synchronize()
+    gmsh.model.addPhysicalGroup(2, [s], name="plate")
+    gmsh.model.addPhysicalGroup(1, [ls[0]], name="bottom")
+    gmsh.model.addPhysicalGroup(1, [ls[0], ls[1]], name="supported")
+    gmsh.model.addPhysicalGroup(0, [p[0]], name="corner")
+    gmsh.model.addPhysicalGroup(0, [centre], name="centre")
+    gmsh.model.addPhysicalGroup(1, [99], name="ghost")
+    gmsh.model.addPhysicalGroup(3, [], name="vol")
+    gmsh.model.mesh.generate(2)
+    write41("groups.msh")
+    gmsh.model.remove()
+
+    gmsh.model.add("surface_two_groups")
+    g = gmsh.model.geo
+    s, ls, p = square(g, 0, 0, 1, 1, 0.5)
+    g.synchronize()
+    gmsh.model.addPhysicalGroup(2, [s], name="plate")
+    gmsh.model.addPhysicalGroup(2, [s], name="steel")
+    gmsh.model.mesh.generate(2)
+    write41("surface_two_groups.msh")
+    gmsh.model.remove()
+
+    gmsh.model.add("unmerged")
+    g = gmsh.model.geo
+    s1, _, _ = square(g, 0, 0, 1, 1, 0.5)
+    s2, _, _ = square(g, 1, 0, 1, 1, 0.5)
+    g.synchronize()
+    gmsh.model.addPhysicalGroup(2, [s1, s2], name="plate")
+    gmsh.model.mesh.generate(2)
+    write41("unmerged.msh")
+    gmsh.model.remove()
+
+    for name, scale in [("plate_mm.msh", 1.0), ("plate_m.msh", 0.001)]:
+        gmsh.model.add("plate")
+        g = gmsh.model.geo
+        s, ls, p = square(g, 0, 0, 200, 100, 50)
+        g.synchronize()
+        gmsh.model.addPhysicalGroup(2, [s], name="plate")
+        gmsh.model.addPhysicalGroup(1, [ls[3]], name="left")
+        gmsh.model.addPhysicalGroup(1, [ls[1]], name="right")
+        gmsh.model.mesh.generate(2)
+        gmsh.option.setNumber("Mesh.ScalingFactor", scale)
+        write41(name)
+        gmsh.option.setNumber("Mesh.ScalingFactor", 1.0)
+        gmsh.model.remove()
+    gmsh.finalize()
+
+
 if sys.argv[1:] == ["rings"]:
     ring_meshes()
+elif sys.argv[1:] == ["diagnostics"]:
+    diagnostic_meshes()
 else:
     linear_meshes()
