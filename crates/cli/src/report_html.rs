@@ -441,7 +441,7 @@ code,pre{font-family:'DejaVu Sans Mono',Menlo,Consolas,monospace;font-size:.9em}
 pre{background:#f6f6f6;padding:.8em;overflow-x:auto;white-space:pre-wrap;border-radius:4px}\
 table{border-collapse:collapse;margin:.5em 0;font-size:.9em}td,th{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
 th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}table.inputs td{text-align:left}\
-table.numbers td:nth-child(3),table.numbers td:nth-child(4){text-align:left}\
+table.numbers td:first-child{min-width:24em}table.numbers td.text,table.numbers td:nth-child(3),table.numbers td:nth-child(4),table.numbers th{text-align:left}\
 .warn{background:#fff3cd;border-left:5px solid #e0a800;padding:.5em 1em;margin:.4em 0}\
 .note{background:#eef5ff;border-left:5px solid #4a90d9;padding:.5em 1em;margin:.4em 0}\
 figure{margin:1.5em 0;border:1px solid #ddd;padding:.5em;border-radius:4px}figure svg{max-width:100%;height:auto;display:block}\
@@ -593,10 +593,13 @@ pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
     if let Some(s) = &summary {
         h += "<h2 id=\"numbers\">Key numbers</h2>\n<p class=\"muted\">From summary.json, in engineering units (MPa, mm, °C); the file itself keeps SI units (Pa, m), under the keys of the last column.</p>\n<table class=\"numbers\"><thead><tr><th>quantity</th><th>value</th><th>unit</th><th>summary.json key</th></tr></thead><tbody>";
         for (label, value, unit, key) in key_numbers(s) {
+            // text (not a number, no unit) reads from the left
+            let text = unit.is_empty() && value.parse::<f64>().is_err();
             let _ = write!(
                 h,
-                "<tr><td>{}</td><td>{}</td><td>{}</td><td><code class=\"muted\">{}</code></td></tr>",
+                "<tr><td>{}</td><td{}>{}</td><td>{}</td><td><code class=\"muted\">{}</code></td></tr>",
                 escape(&label),
+                if text { " class=\"text\"" } else { "" },
                 escape(&value),
                 escape(&unit),
                 escape(&key)
