@@ -142,6 +142,41 @@ fn tecon_vessel_writes_the_history_and_the_operating_state() {
     assert_eq!(th["records"].as_u64(), Some(rows.len() as u64));
     assert_eq!(th["probes"][0]["name"], "weld_centre");
     assert_eq!(th["probes"][0]["max"].as_f64(), Some(1132.0));
+    // the README's numbers (default mesh g0): the peaks of the core side
+    // of the joint and of the inner surface, and the inner surface's dip
+    // below the initial 21 °C between output times
+    assert_eq!(rows.len(), 293);
+    let point = |name: &str| {
+        th["probes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == name)
+            .unwrap()
+            .clone()
+    };
+    let near = |v: &Value, want: f64, tol: f64| (v.as_f64().unwrap() - want).abs() <= tol;
+    let (joint, inner) = (point("interface_core"), point("core_inner"));
+    assert!(
+        near(&joint["max"], 51.40, 0.005) && near(&joint["time_of_max"], 1.0, 0.0),
+        "{joint}"
+    );
+    assert!(
+        near(&inner["max"], 47.25, 0.005) && near(&inner["time_of_max"], 26.0, 0.0),
+        "{inner}"
+    );
+    let j = header.iter().position(|c| c == "T_core_inner_C").unwrap();
+    let (t_min, v_min) = rows
+        .iter()
+        .map(|r| (r[0].parse::<f64>().unwrap(), r[j].parse::<f64>().unwrap()))
+        .fold(
+            (f64::NAN, f64::INFINITY),
+            |a, b| if b.1 < a.1 { b } else { a },
+        );
+    assert!(
+        (v_min - 20.91).abs() <= 0.005 && t_min == 0.12,
+        "{v_min} °C at {t_min} s"
+    );
     let report = std::fs::read_to_string(out.join("report.txt")).unwrap();
     assert!(report.contains("temperature history at"), "{report}");
 
