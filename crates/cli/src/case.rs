@@ -469,6 +469,9 @@ pub struct CaseResult {
     pub states: Vec<StateResult>,
     /// Probe points and their nearest nodes.
     pub probes: Vec<([f64; 2], usize)>,
+    /// The probes' temperatures at every thermal step of a transient (the
+    /// nearest nodes', as `probes.csv`).
+    pub history: Option<driver::TemperatureHistory>,
     /// The driver's statistics.
     pub newton: NewtonStats,
     /// Heat conduction summary.
@@ -504,7 +507,8 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     let tie = setup::tie(case, &mesh)?;
     let (outcome, joints, al, analysis, probes, bound_violation) = {
         let p = setup::prepare(case, &mesh, tie.as_ref())?;
-        let outcome = driver::run(&p.setup).map_err(|e| err(f, e))?;
+        let nodes: Vec<usize> = p.probes.iter().map(|&(_, i)| i).collect();
+        let outcome = driver::run_recording(&p.setup, &nodes).map_err(|e| err(f, e))?;
         // the measure of `tecon vessel`'s thermal.bound_violation
         let bound_violation = outcome
             .bound_violation
@@ -573,6 +577,10 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
                 .find(|m| m.region == r)
                 .and_then(|m| m.yield_stress)
         });
+    if let Some(h) = &outcome.history {
+        summary["temperature_history"] =
+            writers::history_summary(&mesh, &history_probes(&probes), h);
+    }
     summary["yield_check"] = checks;
     let warnings: Vec<String> = mesh_warnings.into_iter().chain(warnings).collect();
     if !warnings.is_empty() {
@@ -584,12 +592,27 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         interfaces: outcome.interfaces,
         states: outcome.states,
         probes,
+        history: outcome.history,
         newton: outcome.newton,
         thermal: outcome.thermal,
         seconds: (outcome.thermal_seconds, outcome.contact_seconds),
         summary,
         yield_lines,
     })
+}
+
+/// The case's probes as the points of the temperature history: `probe<k>`,
+/// labelled with the point asked for, as in `probes.csv`.
+pub fn history_probes(probes: &[([f64; 2], usize)]) -> Vec<writers::HistoryProbe> {
+    probes
+        .iter()
+        .enumerate()
+        .map(|(k, &(p, node))| writers::HistoryProbe {
+            name: format!("probe{k}"),
+            label: format!("probe {k} ({}, {})", p[0], p[1]),
+            node,
+        })
+        .collect()
 }
 
 /// Arc-length weighted mean contact pressure (open points count as 0) and
@@ -628,6 +651,16 @@ pub fn write_outputs(case: &Case, res: &CaseResult, out: &Path) -> CliResult<()>
             &res.probes,
             &res.states,
         )?);
+        if let Some(h) = &res.history {
+            // the output times, marked on the history
+            let times: Vec<f64> = res.states.iter().map(|r| r.time).collect();
+            files.extend(writers::write_temperature_history(
+                dir,
+                &history_probes(&res.probes),
+                h,
+                &times,
+            )?);
+        }
         // wall times apart, so that summary.json is bitwise the same for any thread count
         let mut summary = res.summary.clone();
         let mut timing = crate::front::split_timing(&mut summary);
@@ -691,6 +724,10 @@ pub fn report(res: &CaseResult) -> String {
             }
             s.push('\n');
         }
+    }
+    for l in writers::history_lines(&v["temperature_history"]) {
+        s += &l;
+        s.push('\n');
     }
     if let Some(notes) = v["notes"].as_array() {
         for n in notes {

@@ -43,8 +43,8 @@ use tecon_elastic::SolverState;
 use tecon_thermal::{HeatBalance, InterfacePointState, ThermalError, ThermalModel, ThetaScheme};
 
 use crate::driver::{
-    Contact, DriverError, Outcome, Procedure, Setup, State, ThermalFeed, ThermalInfo, ThermalMode,
-    ThermalSetup, ThermalState, run_stages,
+    Contact, DriverError, Outcome, Procedure, Setup, State, TemperatureHistory, ThermalFeed,
+    ThermalInfo, ThermalMode, ThermalSetup, ThermalState, run_stages,
 };
 
 /// Staggered two-way coupling settings.
@@ -332,6 +332,8 @@ struct Loop<'a, 's> {
     /// The symbolic analysis of the thermal matrices (the pattern is the
     /// same at every re-assembly): made once, shared by every stepper.
     thermal_symbolic: Option<tecon_fem::CholeskySolver>,
+    /// Nodes whose temperatures are recorded at every thermal step.
+    history_nodes: &'a [usize],
 }
 
 /// A block of thermal steps from its start.
@@ -352,6 +354,9 @@ struct Attempt {
     state: State,
     /// Interface states after the contact solve.
     states: PointStates,
+    /// The temperatures of the history nodes after every step of the
+    /// block (time, values); kept only if the attempt is accepted.
+    history: Vec<(f64, Vec<f64>)>,
 }
 
 impl Loop<'_, '_> {
@@ -373,6 +378,7 @@ impl Loop<'_, '_> {
             .assemble()
             .map_err(DriverError::ThermalAssembly)?;
         let Block { t0, time0, steps } = b;
+        let mut history = Vec::new();
         let (temperature, time, balance) = if steps.is_empty() {
             let s = system.solve_steady().map_err(DriverError::Steady)?;
             (s.temperature, 0.0, s.balance)
@@ -394,6 +400,13 @@ impl Loop<'_, '_> {
                 stepper
                     .step(s.dt, s.theta)
                     .map_err(DriverError::Transient)?;
+                if !self.history_nodes.is_empty() {
+                    let t = stepper.temperature();
+                    history.push((
+                        s.output.unwrap_or(stepper.time()),
+                        self.history_nodes.iter().map(|&i| t[i]).collect(),
+                    ));
+                }
             }
             (
                 stepper.temperature().to_vec(),
@@ -433,6 +446,7 @@ impl Loop<'_, '_> {
             balance,
             state,
             states,
+            history,
         })
     }
 
@@ -495,6 +509,7 @@ pub(crate) fn two_way<'s>(
     th: &ThermalSetup<'s>,
     c: TwoWay,
     pb: &ProgressBar,
+    history_nodes: &[usize],
 ) -> Result<Outcome, DriverError> {
     let model = th.model.clone();
     let system = model.assemble().map_err(DriverError::ThermalAssembly)?;
@@ -517,7 +532,9 @@ pub(crate) fn two_way<'s>(
         thermal_seconds: 0.0,
         contact_seconds: 0.0,
         thermal_symbolic: None,
+        history_nodes,
     };
+    let mut history = None;
     let mut states: Vec<State> = Vec::new();
     let mut max_res: f64 = 0.0;
     let mut steps_taken = 0;
@@ -559,6 +576,8 @@ pub(crate) fn two_way<'s>(
             times,
         } => {
             let all = split_steps(schedule, *scheme, times)?;
+            let mut recorded = TemperatureHistory::new(history_nodes);
+            recorded.record(schedule.start(), &initial);
             let mut t = initial.clone();
             let mut time = schedule.start();
             let mut first = 0;
@@ -673,6 +692,7 @@ pub(crate) fn two_way<'s>(
                     }
                 };
                 lp.finish_block(iterations, change);
+                recorded.extend(a.history);
                 steps_taken += steps.iter().filter(|s| s.dt > 0.0).count();
                 if span > 0.0 {
                     previous = Some((time, std::mem::take(&mut s_now)));
@@ -702,6 +722,9 @@ pub(crate) fn two_way<'s>(
                     pb.inc(2);
                 }
                 first = last + 1;
+            }
+            if !history_nodes.is_empty() {
+                history = Some(recorded);
             }
             ThermalInfo {
                 mode: ThermalMode::Transient,
@@ -743,6 +766,7 @@ pub(crate) fn two_way<'s>(
         contact_seconds: lp.contact_seconds,
         coupling: Some(lp.stats),
         bound_violation: None,
+        history,
     })
 }
 

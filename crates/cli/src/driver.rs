@@ -50,6 +50,14 @@ pub enum DriverError {
     /// The coupling cannot be done as asked.
     #[error("coupling: {0}")]
     Coupling(String),
+    /// A node of the temperature history is not in the mesh.
+    #[error("temperature history: node {node} is not in the mesh ({nodes} nodes)")]
+    HistoryNode {
+        /// The node asked for.
+        node: usize,
+        /// Nodes of the mesh.
+        nodes: usize,
+    },
     /// A contact solve failed.
     #[error("mechanical solve at t = {time} s: {source}")]
     ContactSolve {
@@ -279,6 +287,45 @@ pub enum ThermalMode {
     Transient,
 }
 
+/// The temperatures of a few nodes at every thermal step of a transient:
+/// the start, then the end of every step (a step split at an output time
+/// counts as two). At an output time the record carries the output time
+/// and the output state's temperatures exactly.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TemperatureHistory {
+    /// The nodes recorded.
+    pub nodes: Vec<usize>,
+    /// Time of each record, s.
+    pub times: Vec<f64>,
+    /// Per record, the temperature of each node (in `nodes` order), °C.
+    pub values: Vec<Vec<f64>>,
+}
+
+impl TemperatureHistory {
+    /// An empty history of `nodes`.
+    pub fn new(nodes: &[usize]) -> Self {
+        TemperatureHistory {
+            nodes: nodes.to_vec(),
+            ..Default::default()
+        }
+    }
+
+    /// Records the nodes' values of the nodal field `temperature` at `time`.
+    pub fn record(&mut self, time: f64, temperature: &[f64]) {
+        self.times.push(time);
+        self.values
+            .push(self.nodes.iter().map(|&i| temperature[i]).collect());
+    }
+
+    /// The records appended to this history, in order.
+    pub fn extend(&mut self, records: Vec<(f64, Vec<f64>)>) {
+        for (t, v) in records {
+            self.times.push(t);
+            self.values.push(v);
+        }
+    }
+}
+
 /// Summary of the heat conduction.
 #[derive(Debug, Clone, Copy)]
 pub struct ThermalInfo {
@@ -312,6 +359,9 @@ pub struct Outcome {
     /// The worst output temperature outside the bounds of the maximum
     /// principle (set by [`run`]; None: none, or no bound applies).
     pub bound_violation: Option<BoundViolation>,
+    /// The temperatures of the nodes asked for ([`run_recording`]) at every
+    /// thermal step (None: none asked for, or no transient).
+    pub history: Option<TemperatureHistory>,
 }
 
 /// A temperature state before the contact solve.
@@ -355,7 +405,18 @@ const CONSTANT_TWO_WAY_NOTE: &str = "two-way coupling asked for, but no interfac
 /// maximum principle ([`temperature_bound_violation`]); a state outside them
 /// adds a note.
 pub fn run(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
-    let mut outcome = run_analysis(setup)?;
+    run_recording(setup, &[])
+}
+
+/// As [`run`], recording the temperatures of `history_nodes` at every
+/// thermal step of a transient ([`Outcome::history`]; one-way and two-way
+/// alike).
+pub fn run_recording(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, DriverError> {
+    let nodes = setup.mesh.n_nodes();
+    if let Some(&node) = history_nodes.iter().find(|&&i| i >= nodes) {
+        return Err(DriverError::HistoryNode { node, nodes });
+    }
+    let mut outcome = run_analysis(setup, history_nodes)?;
     outcome.bound_violation = temperature_bound_violation(setup, &outcome.states);
     if let Some(v) = &outcome.bound_violation {
         outcome.notes.push(v.note());
@@ -458,7 +519,7 @@ pub fn temperature_bound_violation(setup: &Setup<'_>, states: &[State]) -> Optio
     worst
 }
 
-fn run_analysis(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
+fn run_analysis(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, DriverError> {
     let n_out = match setup.thermal.as_ref().map(|t| &t.procedure) {
         Some(Procedure::Transient { times, .. }) => times.len(),
         _ => 1,
@@ -468,7 +529,7 @@ fn run_analysis(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     let mut notes = Vec::new();
     if let (Coupling::TwoWay(c), Some(th)) = (setup.coupling, &setup.thermal) {
         if !setup.coupled_interfaces.is_empty() {
-            return crate::coupling_loop::two_way(setup, th, c, &pb);
+            return crate::coupling_loop::two_way(setup, th, c, &pb, history_nodes);
         }
         notes.push(CONSTANT_TWO_WAY_NOTE.to_string());
     }
@@ -491,12 +552,17 @@ fn run_analysis(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
         let heat = scope.spawn(|| {
             let clock = std::time::Instant::now();
             let info = match &prepared {
-                Some((th, system, _)) => heat_conduction(th, system, send, &stop, &pb),
-                None => Ok(ThermalInfo {
-                    mode: ThermalMode::None,
-                    steps: 0,
-                    max_balance_residual: None,
-                }),
+                Some((th, system, _)) => {
+                    heat_conduction(th, system, send, &stop, &pb, history_nodes)
+                }
+                None => Ok((
+                    ThermalInfo {
+                        mode: ThermalMode::None,
+                        steps: 0,
+                        max_balance_residual: None,
+                    },
+                    None,
+                )),
             };
             info.map(|i| (i, clock.elapsed().as_secs_f64()))
         });
@@ -522,7 +588,7 @@ fn run_analysis(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
     });
     // A failed heat conduction comes first: the contact then saw its states
     // end early.
-    let (thermal, heat_seconds) = heat_side?;
+    let ((thermal, history), heat_seconds) = heat_side?;
     let (contact, states, contact_seconds) = contact_side?;
     pb.inc(1);
     pb.finish_and_clear();
@@ -536,6 +602,7 @@ fn run_analysis(setup: &Setup<'_>) -> Result<Outcome, DriverError> {
         contact_seconds,
         coupling: None,
         bound_violation: None,
+        history,
     })
 }
 
@@ -629,14 +696,18 @@ pub(crate) fn run_stages(
 }
 
 /// Heat conduction of the whole procedure (one-way), each output state sent
-/// as soon as it is computed; it stops early when `stop` is set.
+/// as soon as it is computed; it stops early when `stop` is set. A
+/// transient records the temperatures of `history_nodes` at every step
+/// (none asked for: no history).
 fn heat_conduction(
     th: &ThermalSetup<'_>,
     system: &tecon_thermal::ThermalSystem<'_>,
     send: std::sync::mpsc::Sender<ThermalState>,
     stop: &std::sync::atomic::AtomicBool,
     pb: &ProgressBar,
-) -> Result<ThermalInfo, DriverError> {
+    history_nodes: &[usize],
+) -> Result<(ThermalInfo, Option<TemperatureHistory>), DriverError> {
+    let mut history = None;
     // (a contact side that gave up no longer receives: nothing to do then)
     let deliver = |s: ThermalState| {
         let _ = send.send(s);
@@ -680,7 +751,8 @@ fn heat_conduction(
             times,
         } => {
             let mut k = 0;
-            let summary = tecon_thermal::run_transient_while(
+            let mut recorded = TemperatureHistory::new(history_nodes);
+            let summary = tecon_thermal::run_transient_observed(
                 system,
                 schedule,
                 *scheme,
@@ -697,9 +769,17 @@ fn heat_conduction(
                     k += 1;
                     pb.inc(1);
                 },
+                |time, temperature| {
+                    if !history_nodes.is_empty() {
+                        recorded.record(time, temperature);
+                    }
+                },
                 || !stop.load(std::sync::atomic::Ordering::Relaxed),
             )
             .map_err(DriverError::Transient)?;
+            if !history_nodes.is_empty() {
+                history = Some(recorded);
+            }
             ThermalInfo {
                 mode: ThermalMode::Transient,
                 steps: summary.steps,
@@ -707,7 +787,7 @@ fn heat_conduction(
             }
         }
     };
-    Ok(info)
+    Ok((info, history))
 }
 
 /// The stress-free temperature T_ref,e of every element: the case's

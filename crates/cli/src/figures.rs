@@ -133,6 +133,93 @@ pub fn fig7(profiles: &[WallTemperature]) -> Figure {
     }
 }
 
+/// The temperature of one point against time (every thermal step).
+#[derive(Clone, Debug)]
+pub struct HistoryLine {
+    /// legend label
+    pub label: String,
+    /// (time s, T °C), in time order
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Temperature against time at a few points, on a logarithmic time axis
+/// (the start, t = 0, lies off it), one colour per point; a marker where a
+/// record falls on one of the `output_times` (the states written in full).
+/// When some points stay far cooler than the hottest (their rise above the
+/// lowest temperature under a fifth of the whole span, as the core beside
+/// a cooling weld), a second panel shows the same lines on their scale.
+pub fn temperature_history(lines: &[HistoryLine], output_times: &[f64]) -> Figure {
+    let mut drawn = Vec::new();
+    for (k, l) in lines.iter().enumerate() {
+        drawn.push(Line::solid(l.label.clone(), k, l.points.clone()));
+        let marks: Vec<(f64, f64)> = l
+            .points
+            .iter()
+            .filter(|(t, _)| output_times.contains(t))
+            .copied()
+            .collect();
+        if !marks.is_empty() {
+            drawn.push(Line::solid("", k, marks).points_only());
+        }
+    }
+    let range = |v: &mut dyn Iterator<Item = f64>| {
+        v.filter(|x| x.is_finite())
+            .fold(None, |r: Option<(f64, f64)>, x| {
+                Some(r.map_or((x, x), |(a, b)| (a.min(x), b.max(x))))
+            })
+    };
+    let all = range(&mut lines.iter().flat_map(|l| l.points.iter().map(|p| p.1)));
+    let cool: Vec<&HistoryLine> = match all {
+        Some((lo, hi)) if hi > lo => lines
+            .iter()
+            .filter(|l| {
+                range(&mut l.points.iter().map(|p| p.1))
+                    .is_some_and(|(_, m)| m - lo < 0.2 * (hi - lo))
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    let panel = |title: String, y: Axis, legend: LegendAt, notes: Vec<String>| Panel {
+        title,
+        x: Axis::log("time [s]"),
+        y,
+        lines: drawn.clone(),
+        notes,
+        legend,
+        ..Default::default()
+    };
+    let marks = vec!["markers: the output times (the states written in full)".to_string()];
+    let mut panels = vec![panel(
+        "all points".into(),
+        Axis::linear("T [°C]"),
+        LegendAt::UpperRight,
+        marks.clone(),
+    )];
+    let detail = range(&mut cool.iter().flat_map(|l| l.points.iter().map(|p| p.1)));
+    if !cool.is_empty()
+        && cool.len() < lines.len()
+        && let Some((a, b)) = detail
+    {
+        let pad = 0.08 * (b - a).max(1.0);
+        panels.push(panel(
+            format!(
+                "the cooler points ({} – {} °C)",
+                fmt_value(a.floor()),
+                fmt_value(b.ceil())
+            ),
+            Axis::linear("T [°C]").range(a - pad, b + pad),
+            LegendAt::None,
+            Vec::new(),
+        ));
+    }
+    let n = panels.len() as u32;
+    Figure {
+        title: "Temperature history (every thermal step)".into(),
+        panels,
+        size: (if n > 1 { 1400 } else { 900 }, 600),
+    }
+}
+
 /// A through-the-wall profile in MPa, core and layer apart.
 #[derive(Clone, Debug, Default)]
 pub struct WallProfile {
@@ -574,6 +661,42 @@ mod tests {
     //! segments, sorted and merged interface rows, the fitted order).
     use super::*;
     use tecon_contact::ContactStatus;
+
+    /// The history figure: a log time axis, markers at the output times
+    /// only, and a panel on the cooler points' scale when one point is far
+    /// hotter than the others (none when they are alike).
+    #[test]
+    fn the_history_shows_the_cool_points_on_their_own_scale() {
+        let line = |label: &str, f: &dyn Fn(f64) -> f64| HistoryLine {
+            label: label.into(),
+            points: [0.0, 0.1, 1.0, 10.0, 100.0]
+                .iter()
+                .map(|&t| (t, f(t)))
+                .collect(),
+        };
+        let weld = line("weld", &|t| 21.0 + 1100.0 / (1.0 + t));
+        let core = line("core", &|t| 21.0 + 30.0 * t / (1.0 + t * t));
+        let fig = temperature_history(&[weld.clone(), core.clone()], &[1.0, 100.0]);
+        assert_eq!(fig.panels.len(), 2);
+        assert_eq!(fig.panels[0].x.scale, crate::plot::Scale::Log);
+        // the core peaks at 36 °C at t = 1 s: the detail spans 21–36 °C
+        let (lo, hi) = fig.panels[1].y.range.unwrap();
+        assert!(
+            lo < 21.0 && lo > 19.0 && hi > 36.0 && hi < 38.0,
+            "{lo} {hi}"
+        );
+        let marks: Vec<&Line> = fig.panels[0].lines.iter().filter(|l| l.no_line).collect();
+        assert_eq!(marks.len(), 2);
+        assert!(
+            marks
+                .iter()
+                .all(|l| l.points.iter().map(|p| p.0).eq([1.0, 100.0]))
+        );
+        // two alike points: one panel
+        let fig = temperature_history(&[core.clone(), core], &[]);
+        assert_eq!(fig.panels.len(), 1);
+        assert!(fig.panels[0].lines.iter().all(|l| !l.no_line));
+    }
 
     fn point(x: f64, y: f64, p: f64, status: ContactStatus) -> InterfacePointResult {
         InterfacePointResult {

@@ -134,7 +134,7 @@ pub fn yield_reports(run: &VesselRun, yield_stress: Option<f64>) -> Vec<(String,
             yield_check::check(&run.mesh, &last.stress, &y),
         ));
     }
-    if let Some((op, _)) = &run.operating {
+    if let Some(op) = run.operating.as_ref().map(|s| &s.stress) {
         v.push((
             "operating (with prestress)".to_string(),
             yield_check::check(&run.mesh, op, &y),

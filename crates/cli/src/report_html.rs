@@ -68,49 +68,295 @@ fn num(v: f64) -> String {
     }
 }
 
-/// Leaves of a JSON value as (path, text), arrays of more than 12 numbers summarised.
-fn flatten(prefix: &str, v: &Value, out: &mut Vec<(String, String)>) {
+/// A leaf of the summary: a number, a list of numbers, or text.
+#[derive(Clone, Debug, PartialEq)]
+enum Leaf {
+    Number(f64),
+    Numbers(Vec<f64>),
+    Text(String),
+}
+
+/// One leaf of the summary: its JSON key (`final.hoop_mean.core_inner`,
+/// `times[2].time`), the path as read (an array's object by its name,
+/// region or time instead of its index) and the value.
+#[derive(Clone, Debug)]
+struct KeyRow {
+    key: String,
+    path: Vec<String>,
+    value: Leaf,
+}
+
+/// How an object of an array is called in a label: by its `name`,
+/// `region`, `ring`, `interface` or `time`; else by its index.
+fn element_name(x: &Value, k: usize) -> String {
+    for f in ["name", "region", "ring", "interface"] {
+        if let Some(n) = x.get(f).and_then(Value::as_str) {
+            return n.to_string();
+        }
+    }
+    if let Some(n) = x.get("stage").and_then(Value::as_u64) {
+        return format!("stage {n}");
+    }
+    if let Some(t) = x.get("time").and_then(Value::as_f64) {
+        return format!("t = {} s", crate::plot::fmt_value(t));
+    }
+    format!("[{k}]")
+}
+
+/// Leaves of a JSON value as [`KeyRow`]s.
+fn flatten(key: &str, path: &[String], v: &Value, out: &mut Vec<KeyRow>) {
+    let push = |out: &mut Vec<KeyRow>, value: Leaf| {
+        out.push(KeyRow {
+            key: key.to_string(),
+            path: path.to_vec(),
+            value,
+        })
+    };
     match v {
         Value::Object(m) => {
             for (k, x) in m {
-                let p = if prefix.is_empty() {
+                let p = if key.is_empty() {
                     k.clone()
                 } else {
-                    format!("{prefix}.{k}")
+                    format!("{key}.{k}")
                 };
-                flatten(&p, x, out);
+                let mut path = path.to_vec();
+                path.push(k.clone());
+                flatten(&p, &path, x, out);
             }
         }
         Value::Array(a) => {
             if a.iter().all(Value::is_number) {
-                let nums: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
-                let text = if nums.len() <= 12 {
-                    nums.iter().map(|&x| num(x)).collect::<Vec<_>>().join(", ")
-                } else {
-                    format!(
-                        "{} values, {} … {}",
-                        nums.len(),
-                        num(nums[0]),
-                        num(nums[nums.len() - 1])
-                    )
-                };
-                out.push((prefix.to_string(), text));
+                push(
+                    out,
+                    Leaf::Numbers(a.iter().filter_map(Value::as_f64).collect()),
+                );
             } else if a.iter().all(Value::is_string) {
                 if !a.is_empty() {
                     let t: Vec<&str> = a.iter().filter_map(Value::as_str).collect();
-                    out.push((prefix.to_string(), t.join("; ")));
+                    push(out, Leaf::Text(t.join("; ")));
                 }
             } else {
                 for (k, x) in a.iter().enumerate() {
-                    flatten(&format!("{prefix}[{k}]"), x, out);
+                    let mut path = path.to_vec();
+                    path.push(element_name(x, k));
+                    flatten(&format!("{key}[{k}]"), &path, x, out);
                 }
             }
         }
-        Value::Number(n) => out.push((prefix.to_string(), num(n.as_f64().unwrap_or(f64::NAN)))),
-        Value::String(s) => out.push((prefix.to_string(), s.clone())),
-        Value::Bool(b) => out.push((prefix.to_string(), b.to_string())),
-        Value::Null => out.push((prefix.to_string(), "—".into())),
+        Value::Number(n) => push(out, Leaf::Number(n.as_f64().unwrap_or(f64::NAN))),
+        Value::String(t) => push(out, Leaf::Text(t.clone())),
+        Value::Bool(b) => push(out, Leaf::Text(b.to_string())),
+        Value::Null => push(out, Leaf::Text("—".into())),
     }
+}
+
+/// The engineering unit of a summary number and its factor from the SI
+/// value of `summary.json`: stresses and pressures in MPa, lengths in mm,
+/// areas in mm², penalty stiffnesses in N/mm³, temperatures in °C (changes
+/// in K), times in s; counts and ratios without a unit.
+fn engineering_unit(path: &[String]) -> (&'static str, f64) {
+    let leaf = path.last().map_or("", String::as_str);
+    let parent = path.len().checked_sub(2).map_or("", |k| path[k].as_str());
+    let in_history = path.iter().any(|p| p == "temperature_history");
+    const LENGTHS: [&str; 10] = [
+        "interference",
+        "max_displacement",
+        "position",
+        "von_mises_max_at",
+        "inner_radius",
+        "outer_radius",
+        "core_thickness",
+        "layer_thickness",
+        "thickness",
+        "weld_half_width",
+    ];
+    const STRESS_PARENTS: [&str; 5] = [
+        "hoop",
+        "hoop_mean",
+        "hoop_mean_with_prestress",
+        "hoop_mean_pressure_only",
+        "stress_mean",
+    ];
+    if leaf.ends_with("_deg") {
+        ("°", 1.0)
+    } else if leaf == "eta" && parent == "zz_error" {
+        // the energy norm per unit thickness
+        ("√(J/m)", 1.0)
+    } else if leaf == "relative" && parent == "zz_error" {
+        ("%", 100.0)
+    } else if leaf.ends_with("_s") || ["time", "time_of_max", "output_times"].contains(&leaf) {
+        ("s", 1.0)
+    } else if ["bound_violation", "max_temperature_change"].contains(&leaf) {
+        ("K", 1.0)
+    } else if ["temperature_min", "temperature_max"].contains(&leaf)
+        || (in_history && ["max", "last"].contains(&leaf))
+    {
+        ("°C", 1.0)
+    } else if leaf.contains("relative") || leaf.contains("rel_error") || leaf.contains("ratio") {
+        ("", 1.0)
+    } else if leaf == "hoop_force_balance" {
+        ("N/m", 1.0)
+    } else if ["k_n", "k_s"].contains(&leaf) {
+        ("N/mm³", 1e-9)
+    } else if ["area", "area_above_yield"].contains(&leaf) {
+        ("mm²", 1e6)
+    } else if LENGTHS.contains(&leaf) {
+        ("mm", 1e3)
+    } else if STRESS_PARENTS.contains(&parent)
+        || leaf.contains("pressure")
+        || leaf.contains("hoop")
+        || (leaf.contains("von_mises") && !leaf.ends_with("_element"))
+        || ["cohesion", "yield_stress"].contains(&leaf)
+    {
+        ("MPa", 1e-6)
+    } else {
+        ("", 1.0)
+    }
+}
+
+/// A readable name of one key of the summary.
+fn readable(segment: &str, in_history: bool) -> String {
+    let known = match segment {
+        "final" => "after cooling",
+        "hoop" | "hoop_mean" => "mean hoop stress σ_θθ",
+        "core_inner" => "core, inner surface",
+        "core_outer" => "core, outer surface",
+        "layer_inner" => "layer, inner surface",
+        "layer_outer" => "layer, outer surface",
+        "analytical" => "analytical, δ = αΔTw/2π (plane strain)",
+        "analytical_variants" => "analytical",
+        "plane_strain_consistent" => "plane strain, δ = (1+ν)αΔTw/2π",
+        "plane_stress_classical" => "plane stress (classical)",
+        "contact_pressure" => "contact pressure",
+        "contact_pressure_mean" => "mean contact pressure",
+        "contact_pressure_max" => "largest contact pressure",
+        "hoop_mean_with_prestress" => "mean hoop stress with the weld prestress",
+        "hoop_mean_pressure_only" => "mean hoop stress, pressure alone",
+        "pressure" => "internal pressure",
+        "zz_error" => "ZZ error estimate",
+        "eta" => "η",
+        "coupling_delta" => "coupling parameter δ at ambient",
+        "coupling_delta_at_weld_temperature" => "coupling parameter δ at the weld temperature",
+        "heat_balance_max_rel_error" => "largest relative heat-balance error",
+        "heat_balance_rel_error" => "relative heat-balance error",
+        "bound_violation" => "temperature outside its physical bounds by",
+        "max_temperature_change" => "largest temperature change",
+        "hoop_force_balance" => "net hoop force of the half section",
+        "hoop_force_balance_relative" => "net hoop force / ∫|σ_θθ| dr",
+        "interface_points" => "interface integration points",
+        "interface_nodes" => "interface positions",
+        "temperature_history" => "temperature history",
+        "time_of_max" => "time of the highest temperature",
+        "max" if in_history => "highest temperature",
+        "last" if in_history => "last temperature",
+        "stress_mean" => "mean stress",
+        "rr" => "σ_rr",
+        "tt" => "σ_θθ",
+        "rt" => "σ_rθ",
+        "xx" => "σ_xx",
+        "yy" => "σ_yy",
+        "xy" => "σ_xy",
+        "zz" => "σ_zz",
+        "von_mises" => "von Mises",
+        "eps_zz" => "ε_zz",
+        "max_displacement" => "largest displacement",
+        "max_von_mises" => "largest von Mises stress",
+        "von_mises_max" => "peak von Mises stress",
+        "von_mises_max_at" => "peak von Mises stress at (x, y)",
+        "von_mises_max_element" => "element of the peak",
+        "k_n" => "normal penalty stiffness k_n",
+        "k_s" => "shear penalty stiffness k_s",
+        "interference" => "interference δ",
+        "temperature_min" => "lowest temperature",
+        "temperature_max" => "highest temperature",
+        "newton" => "Newton",
+        "max_iterations_per_increment" => "most iterations in one increment",
+        "max_augmentations_per_increment" => "most outer updates in one increment",
+        _ => "",
+    };
+    if known.is_empty() {
+        segment.replace('_', " ")
+    } else {
+        known.to_string()
+    }
+}
+
+/// The label of a row: its path in words, ` › ` between the levels.
+fn row_label(path: &[String]) -> String {
+    let in_history = path.iter().any(|p| p == "temperature_history");
+    let words: Vec<String> = path.iter().map(|p| readable(p, in_history)).collect();
+    let mut s = words.join(" › ");
+    if let Some(c) = s.get(..1) {
+        s = c.to_uppercase() + &s[1..];
+    }
+    s
+}
+
+/// A value in engineering units: 6 significant digits, integers as such.
+fn engineering_value(v: f64) -> String {
+    if v.is_finite() && v == v.trunc() && v.abs() < 1e15 {
+        format!("{}", v as i64)
+    } else {
+        crate::plot::fmt_value(v)
+    }
+}
+
+/// Top-level keys of the summaries in the order an engineer reads them:
+/// the results first, then how they were obtained; other keys after these,
+/// in the file's order.
+const READING_ORDER: [&str; 9] = [
+    "final",
+    "operating",
+    "times",
+    "stages",
+    "temperature_history",
+    "analytical",
+    "analytical_variants",
+    "yield_check",
+    "thermal",
+];
+
+/// The rows of the key-numbers table: (label, value, unit, JSON key).
+fn key_numbers(summary: &Value) -> Vec<(String, String, String, String)> {
+    let mut rows = Vec::new();
+    flatten("", &[], summary, &mut rows);
+    rows.retain(|r| !r.key.ends_with("notes") && !r.key.ends_with("warnings"));
+    // (a stable sort: within a group the file's order)
+    rows.sort_by_key(|r| {
+        r.path.first().map_or(READING_ORDER.len(), |k| {
+            READING_ORDER
+                .iter()
+                .position(|g| g == k)
+                .unwrap_or(READING_ORDER.len())
+        })
+    });
+    rows.into_iter()
+        .map(|r| {
+            let (unit, factor) = engineering_unit(&r.path);
+            let value = match &r.value {
+                Leaf::Number(v) => engineering_value(v * factor),
+                Leaf::Numbers(v) if v.len() <= 12 => v
+                    .iter()
+                    .map(|x| engineering_value(x * factor))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                Leaf::Numbers(v) => format!(
+                    "{} values, {} … {}",
+                    v.len(),
+                    engineering_value(v[0] * factor),
+                    engineering_value(v[v.len() - 1] * factor)
+                ),
+                Leaf::Text(t) => t.clone(),
+            };
+            let unit = if matches!(r.value, Leaf::Text(_)) {
+                ""
+            } else {
+                unit
+            };
+            (row_label(&r.path), value, unit.to_string(), r.key)
+        })
+        .collect()
 }
 
 /// Strings under keys named `notes` or `warnings` anywhere in the summary.
@@ -195,16 +441,25 @@ code,pre{font-family:'DejaVu Sans Mono',Menlo,Consolas,monospace;font-size:.9em}
 pre{background:#f6f6f6;padding:.8em;overflow-x:auto;white-space:pre-wrap;border-radius:4px}\
 table{border-collapse:collapse;margin:.5em 0;font-size:.9em}td,th{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
 th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}table.inputs td{text-align:left}\
+table.numbers td:first-child{min-width:24em}table.numbers td.text,table.numbers td:nth-child(3),table.numbers td:nth-child(4),table.numbers th{text-align:left}\
 .warn{background:#fff3cd;border-left:5px solid #e0a800;padding:.5em 1em;margin:.4em 0}\
 .note{background:#eef5ff;border-left:5px solid #4a90d9;padding:.5em 1em;margin:.4em 0}\
 figure{margin:1.5em 0;border:1px solid #ddd;padding:.5em;border-radius:4px}figure svg{max-width:100%;height:auto;display:block}\
 figcaption{font-weight:600;margin-top:.3em}.muted{color:#666}";
 
-/// The place of a figure in the page: the paper's figures by number
-/// (fig6 before fig10), then the interface, the mesh study, the probes,
-/// torsion's plots and anything else; numbers inside names compare as numbers.
+/// The place of a figure in the page: the temperature history first (how
+/// the weld cools), the paper's figures by number (fig6 before fig10), then
+/// the interface, the mesh study, the probes, torsion's plots and anything
+/// else; numbers inside names compare as numbers.
 pub fn reading_order(name: &str) -> (usize, Vec<(String, u64)>) {
-    const GROUPS: [&str; 5] = ["fig", "interface", "study", "probes", "boundary"];
+    const GROUPS: [&str; 6] = [
+        "temperature_history",
+        "fig",
+        "interface",
+        "study",
+        "probes",
+        "boundary",
+    ];
     let group = GROUPS
         .iter()
         .position(|g| name.starts_with(g))
@@ -334,14 +589,21 @@ pub fn build(dir: &Path, r: &ReportInputs) -> std::io::Result<String> {
         }
     }
 
-    // Key numbers.
+    // Key numbers, in engineering units (summary.json keeps SI).
     if let Some(s) = &summary {
-        let mut rows = Vec::new();
-        flatten("", s, &mut rows);
-        rows.retain(|(k, _)| !k.ends_with("notes") && !k.ends_with("warnings"));
-        h += "<h2 id=\"numbers\">Key numbers (summary.json, SI units)</h2>\n<table><thead><tr><th>key</th><th>value</th></tr></thead><tbody>";
-        for (k, v) in rows {
-            let _ = write!(h, "<tr><td>{}</td><td>{}</td></tr>", escape(&k), escape(&v));
+        h += "<h2 id=\"numbers\">Key numbers</h2>\n<p class=\"muted\">From summary.json, in engineering units (MPa, mm, °C); the file itself keeps SI units (Pa, m), under the keys of the last column.</p>\n<table class=\"numbers\"><thead><tr><th>quantity</th><th>value</th><th>unit</th><th>summary.json key</th></tr></thead><tbody>";
+        for (label, value, unit, key) in key_numbers(s) {
+            // text (not a number, no unit) reads from the left
+            let text = unit.is_empty() && value.parse::<f64>().is_err();
+            let _ = write!(
+                h,
+                "<tr><td>{}</td><td{}>{}</td><td>{}</td><td><code class=\"muted\">{}</code></td></tr>",
+                escape(&label),
+                if text { " class=\"text\"" } else { "" },
+                escape(&value),
+                escape(&unit),
+                escape(&key)
+            );
         }
         h += "</tbody></table>\n";
     }
@@ -411,11 +673,13 @@ mod tests {
             "fig10_tangential_displacement.svg",
             "interface_contact_pressure.svg",
             "fig7_temperature_through_wall.svg",
+            "temperature_history.svg",
         ];
         v.sort_by_key(|n| reading_order(n));
         assert_eq!(
             v,
             [
+                "temperature_history.svg",
                 "fig6_temperature_circumference.svg",
                 "fig7_temperature_through_wall.svg",
                 "fig10_tangential_displacement.svg",
@@ -426,6 +690,102 @@ mod tests {
                 "probes_temperature.svg",
             ]
         );
+    }
+
+    /// Goal: the key numbers read in engineering units with readable
+    /// labels, whatever summary they come from (vessel, case, multilayer),
+    /// results first; the JSON keys stay as they are.
+    #[test]
+    fn key_numbers_are_in_engineering_units_with_readable_labels() {
+        let v: Value = serde_json::from_str(
+            r#"{
+                "mesh": {"nodes": 108},
+                "analytical": {"interference": 1.6811e-5, "hoop": {"core_inner": -1667657.2}},
+                "final": {"hoop_mean": {"layer_outer": 4253401.8}, "hoop_force_balance": 21.3,
+                          "zz_error": {"eta": 1.04, "relative": 0.0841}, "time": 72000.0},
+                "joints": {"j": {"k_n": 1.2e15, "cohesion": 0.0, "law": "frictional"}},
+                "times": [{"time": 60.0, "max_displacement": 2.5e-5, "temperature_max": 43.5,
+                           "regions": {"core": {"area": 0.0306, "stress_mean": {"tt": -2.1e6}}}}],
+                "temperature_history": {"probes": [{"name": "weld_centre", "max": 1132.0, "time_of_max": 0.0}]},
+                "geometry": {"inner_radius": 0.762, "layers": [{"seam_angle_deg": 120.0}]},
+                "stages": [{"stage": 1, "rings": [{"ring": "core", "mean_hoop_fe": -2.0e6, "relative_error": 2e-4}]}],
+                "thermal": {"bound_violation": 3.916, "heat_balance_max_rel_error": 1.2e-12}
+            }"#,
+        )
+        .unwrap();
+        let rows = key_numbers(&v);
+        let row = |key: &str| {
+            rows.iter()
+                .find(|r| r.3 == key)
+                .map(|r| (r.0.as_str(), r.1.as_str(), r.2.as_str()))
+                .unwrap_or_else(|| panic!("no row {key}: {rows:?}"))
+        };
+        assert_eq!(
+            row("final.hoop_mean.layer_outer"),
+            (
+                "After cooling › mean hoop stress σ_θθ › layer, outer surface",
+                "4.2534",
+                "MPa"
+            )
+        );
+        assert_eq!(row("analytical.interference").1, "0.016811");
+        assert_eq!(row("analytical.interference").2, "mm");
+        assert_eq!(row("analytical.hoop.core_inner").1, "-1.66766");
+        assert_eq!(row("final.hoop_force_balance").2, "N/m");
+        assert_eq!(row("final.zz_error.eta").2, "√(J/m)");
+        assert_eq!(
+            row("final.zz_error.relative"),
+            ("After cooling › ZZ error estimate › relative", "8.41", "%")
+        );
+        assert_eq!(row("final.time"), ("After cooling › time", "72000", "s"));
+        assert_eq!(
+            row("joints.j.k_n"),
+            (
+                "Joints › j › normal penalty stiffness k_n",
+                "1200000",
+                "N/mm³"
+            )
+        );
+        assert_eq!(row("joints.j.cohesion").2, "MPa");
+        assert_eq!(row("joints.j.law"), ("Joints › j › law", "frictional", ""));
+        assert_eq!(
+            row("times[0].max_displacement"),
+            ("Times › t = 60 s › largest displacement", "0.025", "mm")
+        );
+        assert_eq!(row("times[0].temperature_max").2, "°C");
+        assert_eq!(
+            row("times[0].regions.core.area"),
+            ("Times › t = 60 s › regions › core › area", "30600", "mm²")
+        );
+        assert_eq!(row("times[0].regions.core.stress_mean.tt").1, "-2.1");
+        assert_eq!(
+            row("temperature_history.probes[0].max"),
+            (
+                "Temperature history › probes › weld centre › highest temperature",
+                "1132",
+                "°C"
+            )
+        );
+        assert_eq!(
+            row("geometry.inner_radius"),
+            ("Geometry › inner radius", "762", "mm")
+        );
+        assert_eq!(row("geometry.layers[0].seam_angle_deg").2, "°");
+        assert_eq!(
+            row("stages[0].rings[0].mean_hoop_fe"),
+            (
+                "Stages › stage 1 › rings › core › mean hoop fe",
+                "-2",
+                "MPa"
+            )
+        );
+        assert_eq!(row("stages[0].rings[0].relative_error").2, "");
+        assert_eq!(row("thermal.bound_violation").2, "K");
+        assert_eq!(row("mesh.nodes"), ("Mesh › nodes", "108", ""));
+        // results first: after cooling, then the states, then the analytical model, the mesh last
+        let first = |g: &str| rows.iter().position(|r| r.3.starts_with(g)).unwrap();
+        assert!(first("final") < first("times") && first("times") < first("analytical"));
+        assert!(first("thermal") < first("mesh"));
     }
 
     #[test]
@@ -457,7 +817,11 @@ mod tests {
         assert!(html.contains("a &lt;note&gt;") && html.contains("above yield"));
         // a warning both passed in and in the summary is shown once
         assert_eq!(html.matches("⚠ above yield").count(), 1);
-        assert!(html.contains("35240.5"));
+        // in MPa, with a readable label and its summary.json key
+        assert!(
+            html.contains("<td>After cooling › mean contact pressure</td><td>0.0352405</td><td>MPa</td><td><code class=\"muted\">final.contact_pressure_mean</code></td>"),
+            "{html}"
+        );
         assert!(
             html.contains("<th>a, b</th>"),
             "quoted CSV header read as one field"

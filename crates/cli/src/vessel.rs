@@ -20,7 +20,7 @@ use tecon_mesh::{Mesh, VesselMeshSpec, vessel_mesh};
 
 use crate::driver::{self, LoadFactors};
 use crate::setup;
-use crate::writers::{self, StateFiles, csv};
+use crate::writers::{self, HistoryProbe, StateFiles, csv};
 
 pub use crate::builtin::{VesselData, VesselOptions, default_mesh, schedule};
 pub use crate::driver::NewtonStats;
@@ -39,8 +39,10 @@ pub struct VesselRun {
     pub mesh: Mesh,
     /// One result per output time; the last is the cooled state.
     pub results: Vec<TimeResult>,
-    /// Operating state with the weld prestress (if a pressure was asked for).
-    pub operating: Option<(StressField, Vec<f64>)>,
+    /// Operating state with the weld prestress (if a pressure was asked
+    /// for): the internal pressure on the cooled state, its temperatures
+    /// held.
+    pub operating: Option<TimeResult>,
     /// Operating state without prestress (pressure alone).
     pub pressure_only: Option<(StressField, Vec<f64>)>,
     /// Largest relative heat-balance residual of the transient.
@@ -59,6 +61,10 @@ pub struct VesselRun {
     pub newton: NewtonStats,
     /// Names of the model interfaces.
     pub interfaces: Vec<String>,
+    /// The points of the temperature history ([`history_probes`]).
+    pub history_probes: Vec<HistoryProbe>,
+    /// Their temperatures at every thermal step.
+    pub history: Option<driver::TemperatureHistory>,
     /// Two-way coupling statistics (None: one-way).
     pub coupling: Option<crate::driver::CouplingStats>,
     /// The worst temperature outside the bounds of the maximum principle
@@ -99,9 +105,12 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
     let case = crate::builtin::vessel_case(o, &mesh)?;
     setup::declare_interfaces(&case, &mut mesh)?;
     let tie = setup::tie(&case, &mesh)?;
+    let history_probes = history_probes(&mesh, o);
+    let nodes: Vec<usize> = history_probes.iter().map(|p| p.node).collect();
     let (outcome, pressure_only, bound_violation) = {
         let p = setup::prepare(&case, &mesh, tie.as_ref())?;
-        let outcome = driver::run(&p.setup).map_err(|e| free_layer(e, o.pressure))?;
+        let outcome =
+            driver::run_recording(&p.setup, &nodes).map_err(|e| free_layer(e, o.pressure))?;
         let bound_violation = outcome.bound_violation.clone();
         let alone = match o.pressure {
             Some(_) => Some(
@@ -122,7 +131,7 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         if s.stage == 0 {
             results.push(s);
         } else {
-            operating = Some((s.stress, s.displacement));
+            operating = Some(s);
         }
     }
     Ok(VesselRun {
@@ -139,9 +148,77 @@ pub fn analyse(options: &VesselOptions) -> CliResult<VesselRun> {
         contact_seconds: outcome.contact_seconds,
         newton: outcome.newton,
         interfaces: outcome.interfaces,
+        history_probes,
+        history: outcome.history,
         coupling: outcome.coupling,
         bound_violation,
     })
+}
+
+/// The points of the vessel's temperature history: in the weld plane
+/// θ = 0 the weld centre on the outer surface, the core/layer interface on
+/// the layer side and on the core side, and the core's inner surface; and
+/// the layer's outer surface at θ = 90°, far from the weld. Each is the
+/// node of its body on that circle nearest the angle (its actual angle in
+/// the label when it differs, e.g. a fused weld leaves the layer no node
+/// at θ = 0 on the interface).
+pub fn history_probes(mesh: &Mesh, o: &VesselOptions) -> Vec<HistoryProbe> {
+    let (core, layer) = bodies(mesh);
+    let g = &o.geometry;
+    let deg = |i: usize| r_theta(mesh.nodes()[i]).1.to_degrees();
+    let spots = [
+        (
+            "weld_centre",
+            "weld centre, outer surface",
+            layer,
+            g.outer_radius(),
+            0.0,
+        ),
+        (
+            "interface_layer",
+            "interface, layer side",
+            layer,
+            g.interface_radius(),
+            0.0,
+        ),
+        (
+            "interface_core",
+            "interface, core side",
+            core,
+            g.interface_radius(),
+            0.0,
+        ),
+        (
+            "core_inner",
+            "core inner surface",
+            core,
+            g.inner_radius,
+            0.0,
+        ),
+        (
+            "far_field_90deg",
+            "layer outer surface",
+            layer,
+            g.outer_radius(),
+            90.0,
+        ),
+    ];
+    spots
+        .iter()
+        .filter_map(|&(name, what, body, r, angle)| {
+            let node = ring_nodes(mesh, body, r)
+                .into_iter()
+                .min_by(|&a, &b| (deg(a) - angle).abs().total_cmp(&(deg(b) - angle).abs()))?;
+            Some(HistoryProbe {
+                name: name.into(),
+                label: format!(
+                    "{what}, θ = {}°",
+                    crate::plot::fmt_value((deg(node) * 100.0).round() / 100.0)
+                ),
+                node,
+            })
+        })
+        .collect()
 }
 
 /// A solve that failed because a body is free, explained when `--pressure`
@@ -447,14 +524,17 @@ pub fn summary(run: &VesselRun) -> Value {
     } else {
         "constant"
     });
-    if let (Some((op, _)), Some((alone, _)), Some(p)) =
+    if let (Some(op), Some((alone, _)), Some(p)) =
         (&run.operating, &run.pressure_only, run.options.pressure)
     {
         v["operating"] = json!({
             "pressure": p,
-            "hoop_mean_with_prestress": hoop_keys(op),
+            "hoop_mean_with_prestress": hoop_keys(&op.stress),
             "hoop_mean_pressure_only": hoop_keys(alone),
         });
+    }
+    if let Some(h) = &run.history {
+        v["temperature_history"] = writers::history_summary(&run.mesh, &run.history_probes, h);
     }
     v
 }
@@ -556,6 +636,10 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
             &format!("{c}/hoop/layer_outer")
         ),
     );
+    for l in writers::history_lines(&v["temperature_history"]) {
+        s += &l;
+        s.push('\n');
+    }
     s += &format!(
         "Newton: {} iterations in {} increments, at most {} in one increment, all passes counted (at most {} outer updates of multipliers and friction limits); {} factorisations, {} reused, {} low-rank corrected\n",
         run.newton.iterations,
@@ -745,19 +829,41 @@ fn write_files(run: &VesselRun, v: &Value, dir: &Path) -> CliResult<Vec<String>>
         .map(|e| e.file_name().to_string_lossy().to_string())
         .collect();
     files.sort();
+    let state_files = StateFiles {
+        vtu_stem: "vessel",
+        pvd: "vessel.pvd",
+        vtk: true,
+        csv_nodal: false,
+        csv_interface: true,
+    };
     files.extend(writers::write_states(
         dir,
         mesh,
         &run.interfaces,
         &run.results,
-        StateFiles {
-            vtu_stem: "vessel",
-            pvd: "vessel.pvd",
-            vtk: true,
-            csv_nodal: false,
-            csv_interface: true,
-        },
+        state_files,
     )?);
+    // the operating state (--pressure) beside the series: at the time of
+    // the cooled state, which the series holds
+    if let Some(op) = &run.operating {
+        files.extend(writers::write_state_files(
+            dir,
+            mesh,
+            &run.interfaces,
+            op,
+            "operating",
+            state_files,
+        )?);
+    }
+    if let Some(h) = &run.history {
+        let times: Vec<f64> = run.results.iter().map(|r| r.time).collect();
+        files.extend(writers::write_temperature_history(
+            dir,
+            &run.history_probes,
+            h,
+            &times,
+        )?);
+    }
     writers::write(&dir.join("summary.json"), &serde_json::to_string_pretty(v)?)?;
     files.push("summary.json".into());
     Ok(files)

@@ -15,7 +15,7 @@ use tecon_elastic::{InterfacePointResult, StressField, polar, von_mises};
 use tecon_mesh::Mesh;
 use tecon_mesh::vtk::{Field, cell_type, write_cells_vtu, write_pvd};
 
-use crate::driver::State;
+use crate::driver::{State, TemperatureHistory};
 use crate::plot::{LinePlot, Series};
 
 /// Boxed error of the command layer.
@@ -271,6 +271,37 @@ fn interface_csv(names: &[String], r: &State) -> String {
     crate::interface_table::csv(names, &r.interface)
 }
 
+/// The files of one state into `dir`, named by `tag`: `nodal_<tag>.csv`,
+/// `interface_<tag>.csv` (with interface points) and `<stem>_<tag>.vtu`, as
+/// `files` asks; returns the names written (no `.pvd` entry: a state of
+/// its own, e.g. the vessel's operating state, stands beside the series).
+pub fn write_state_files(
+    dir: &Path,
+    mesh: &Mesh,
+    interfaces: &[String],
+    r: &State,
+    tag: &str,
+    files: StateFiles<'_>,
+) -> CliResult<Vec<String>> {
+    let mut names = Vec::new();
+    if files.csv_nodal {
+        let name = format!("nodal_{tag}.csv");
+        write(&dir.join(&name), &nodal_csv(mesh, r))?;
+        names.push(name);
+    }
+    if files.csv_interface && !r.interface.is_empty() {
+        let name = format!("interface_{tag}.csv");
+        write(&dir.join(&name), &interface_csv(interfaces, r))?;
+        names.push(name);
+    }
+    if files.vtk {
+        let name = format!("{}_{tag}.vtu", files.vtu_stem);
+        write_state_vtu(mesh, &dir.join(&name), r)?;
+        names.push(name);
+    }
+    Ok(names)
+}
+
 /// The per-state files of `states` into `dir`; returns the names written.
 pub fn write_states(
     dir: &Path,
@@ -288,24 +319,9 @@ pub fn write_states(
         .par_iter()
         .enumerate()
         .map(|(k, r)| {
-            let mut names = Vec::new();
-            let mut entry = None;
-            if files.csv_nodal {
-                let name = format!("nodal_{k:03}.csv");
-                write(&dir.join(&name), &nodal_csv(mesh, r))?;
-                names.push(name);
-            }
-            if files.csv_interface && !r.interface.is_empty() {
-                let name = format!("interface_{k:03}.csv");
-                write(&dir.join(&name), &interface_csv(interfaces, r))?;
-                names.push(name);
-            }
-            if files.vtk {
-                let name = format!("{}_{k:03}.vtu", files.vtu_stem);
-                write_state_vtu(mesh, &dir.join(&name), r)?;
-                entry = Some((r.time, name.clone()));
-                names.push(name);
-            }
+            let names = write_state_files(dir, mesh, interfaces, r, &format!("{k:03}"), files)?;
+            let vtu = format!("{}_{k:03}.vtu", files.vtu_stem);
+            let entry = files.vtk.then_some((r.time, vtu));
             Ok((names, entry))
         })
         .collect();
@@ -426,6 +442,136 @@ pub fn write_probes(
         files.push(format!("{stem}.png"));
     }
     Ok(files)
+}
+
+/// A point of a temperature history: a column of `temperature_history.csv`
+/// and a line of its figure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HistoryProbe {
+    /// Column name (`T_<name>_C`) and key in the summary, e.g. `weld_centre`.
+    pub name: String,
+    /// Legend label, e.g. `weld centre (layer outer surface, θ = 0°)`.
+    pub label: String,
+    /// The mesh node recorded.
+    pub node: usize,
+}
+
+/// The file the temperature history is written to.
+pub const HISTORY_CSV: &str = "temperature_history.csv";
+
+/// `temperature_history.csv` (one row per record: the start and every
+/// thermal step; a column `T_<name>_C` per probe) and the figure
+/// `temperature_history` (SVG + PNG, log time axis, the output times
+/// marked); returns the names written. `probes` name the nodes of
+/// `history`, in its order.
+pub fn write_temperature_history(
+    dir: &Path,
+    probes: &[HistoryProbe],
+    history: &TemperatureHistory,
+    output_times: &[f64],
+) -> CliResult<Vec<String>> {
+    if probes.len() != history.nodes.len()
+        || probes.iter().zip(&history.nodes).any(|(p, &n)| p.node != n)
+    {
+        return Err(format!(
+            "{HISTORY_CSV}: {} probes named for a history of {} nodes",
+            probes.len(),
+            history.nodes.len()
+        )
+        .into());
+    }
+    if probes.is_empty() || history.times.is_empty() {
+        return Ok(Vec::new());
+    }
+    let header: Vec<String> = std::iter::once("time_s".to_string())
+        .chain(probes.iter().map(|p| format!("T_{}_C", p.name)))
+        .collect();
+    csv(
+        &dir.join(HISTORY_CSV),
+        &header.join(","),
+        history
+            .times
+            .iter()
+            .zip(&history.values)
+            .map(|(&t, v)| std::iter::once(t).chain(v.iter().copied()).collect()),
+    )?;
+    let lines: Vec<crate::figures::HistoryLine> = probes
+        .iter()
+        .enumerate()
+        .map(|(k, p)| crate::figures::HistoryLine {
+            label: p.label.clone(),
+            points: history
+                .times
+                .iter()
+                .zip(&history.values)
+                .map(|(&t, v)| (t, v[k]))
+                .collect(),
+        })
+        .collect();
+    let stem = HISTORY_CSV.trim_end_matches(".csv");
+    crate::figures::temperature_history(&lines, output_times).write_svg_png(&dir.join(stem))?;
+    Ok(vec![
+        HISTORY_CSV.to_string(),
+        format!("{stem}.svg"),
+        format!("{stem}.png"),
+    ])
+}
+
+/// The history in the summary: per probe its node and position, the
+/// highest temperature and the first time it is reached, and the last
+/// value; the number of records.
+pub fn history_summary(
+    mesh: &Mesh,
+    probes: &[HistoryProbe],
+    history: &TemperatureHistory,
+) -> Value {
+    let points: Vec<Value> = probes
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let (mut peak, mut at) = (f64::NEG_INFINITY, f64::NAN);
+            for (&t, v) in history.times.iter().zip(&history.values) {
+                if v[k] > peak {
+                    (peak, at) = (v[k], t);
+                }
+            }
+            json!({
+                "name": p.name,
+                "node": p.node,
+                "position": mesh.nodes()[p.node],
+                "max": peak,
+                "time_of_max": at,
+                "last": history.values.last().map(|v| v[k]),
+            })
+        })
+        .collect();
+    json!({
+        "file": HISTORY_CSV,
+        "records": history.times.len(),
+        "probes": points,
+    })
+}
+
+/// Printed lines of the history: the peak of every probe and when.
+pub fn history_lines(summary: &Value) -> Vec<String> {
+    let Some(points) = summary["probes"].as_array() else {
+        return Vec::new();
+    };
+    let mut s = vec![format!(
+        "temperature history at {} records (the start and every thermal step, {HISTORY_CSV}); highest temperature of each point:",
+        summary["records"]
+    )];
+    for p in points {
+        let f = |k: &str| p[k].as_f64().unwrap_or(f64::NAN);
+        s.push(format!(
+            "  {:<28} {:>9.2} °C at t = {} s (last {:.2} °C)",
+            p["name"].as_str().unwrap_or_default(),
+            f("max"),
+            crate::plot::fmt_value(f("time_of_max")),
+            f("last")
+        ));
+    }
+    s
 }
 
 /// Mean contact pressure of one interface, `∫ p ds / ∫ ds` by the

@@ -96,7 +96,9 @@ pub use conductance::{
 pub use error::ThermalError;
 pub use initial::{BorderRule, InitialTemperature};
 pub use material::{CapacityKind, Material};
-pub use model::{ThermalModel, TransientSummary, run_transient, run_transient_while};
+pub use model::{
+    ThermalModel, TransientSummary, run_transient, run_transient_observed, run_transient_while,
+};
 pub use output::{BodyBalance, HeatBalance, InterfaceFlux, InterfaceResult, Snapshot};
 pub use schedule::{MAX_STEPS, ThetaScheme, TimeSchedule};
 pub use stepper::{DEFAULT_POOL, StepperStats, ThetaStepper};

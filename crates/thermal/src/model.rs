@@ -731,9 +731,40 @@ pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
     schedule: &TimeSchedule,
     scheme: ThetaScheme,
     output_times: &[f64],
-    mut on_output: F,
+    on_output: F,
     keep_going: G,
 ) -> Result<TransientSummary, ThermalError> {
+    run_transient_observed(
+        system,
+        schedule,
+        scheme,
+        output_times,
+        on_output,
+        |_, _| {},
+        keep_going,
+    )
+}
+
+/// As [`run_transient_while`], also calling `on_step(time, temperature)`
+/// with the nodal temperatures at the start and after every step (a step
+/// split at an output time counts as two), e.g. to record a temperature
+/// history at a few points. After a step that ends at an output time,
+/// `time` is that output time exactly, as the snapshot's, and the
+/// temperatures are the snapshot's.
+pub fn run_transient_observed<F, S, G>(
+    system: &ThermalSystem<'_>,
+    schedule: &TimeSchedule,
+    scheme: ThetaScheme,
+    output_times: &[f64],
+    mut on_output: F,
+    mut on_step: S,
+    keep_going: G,
+) -> Result<TransientSummary, ThermalError>
+where
+    F: FnMut(&Snapshot),
+    S: FnMut(f64, &[f64]),
+    G: Fn() -> bool,
+{
     let initial = system
         .initial_temperature()
         .ok_or(ThermalError::NoInitialTemperature)?
@@ -755,7 +786,9 @@ pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
     let mut stepper = system.stepper(initial, start)?;
     let mut next = 0;
     let mut max_res: f64 = 0.0;
+    // emits the outputs reached; returns the last output time emitted
     let mut emit = |stepper: &crate::ThetaStepper<'_, '_>, next: &mut usize, tol: f64| {
+        let mut at = None;
         while *next < outs.len() && outs[*next] <= stepper.time() + tol {
             // The clock sums the steps (1.0000000000000004 after fifty steps
             // of 0.02 s); within the tolerance the output is the requested
@@ -764,10 +797,13 @@ pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
             s.time = outs[*next];
             max_res = max_res.max(s.balance.relative_residual());
             on_output(&s);
+            at = Some(outs[*next]);
             *next += 1;
         }
+        at
     };
-    emit(&stepper, &mut next, slack);
+    let at = emit(&stepper, &mut next, slack);
+    on_step(at.unwrap_or(stepper.time()), stepper.temperature());
     let steps = schedule.steps();
     let thetas: Vec<f64> = (0..steps.len())
         .map(|k| scheme.theta_for(k, steps))
@@ -790,16 +826,21 @@ pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
         let mut split = false;
         while next < outs.len() && outs[next] < step_end - tol {
             let sub = outs[next] - stepper.time();
-            if sub > tol {
+            let stepped = sub > tol;
+            if stepped {
                 stepper.step(sub, theta)?;
                 split = true;
             }
-            emit(&stepper, &mut next, tol);
+            let at = emit(&stepper, &mut next, tol);
+            if stepped {
+                on_step(at.unwrap_or(stepper.time()), stepper.temperature());
+            }
         }
         // Unsplit steps keep their exact Δt (the factorisation key).
         let last = if split { step_end - stepper.time() } else { dt };
         stepper.step(last, theta)?;
-        emit(&stepper, &mut next, tol);
+        let at = emit(&stepper, &mut next, tol);
+        on_step(at.unwrap_or(stepper.time()), stepper.temperature());
     }
     let stats: StepperStats = stepper.stats();
     Ok(TransientSummary {
@@ -813,6 +854,61 @@ pub fn run_transient_while<F: FnMut(&Snapshot), G: Fn() -> bool>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Goal: the step observer sees the start and every step (a step split
+    /// at an output time as two), ends at the end of the schedule, and at
+    /// an output time carries the output time and the snapshot's
+    /// temperatures bit for bit.
+    #[test]
+    fn the_step_observer_sees_every_step_and_the_outputs_exactly() {
+        let mesh = tecon_mesh::rectangle(0.0, 0.0, 0.1, 0.02, 8, 2).unwrap();
+        let mut m = ThermalModel::new(&mesh);
+        m.set_material_everywhere(Material::vessel_steel())
+            .unwrap()
+            .set_initial_default(20.0)
+            .unwrap()
+            .set_initial_node(0, 900.0)
+            .unwrap()
+            .add_edge_bc("right", EdgeBc::convection(50.0, 20.0))
+            .unwrap();
+        let system = m.assemble().unwrap();
+        // 10 steps of 1 s; 2.5 splits the third, 4 ends the fourth
+        let schedule = TimeSchedule::uniform(1.0, 10).unwrap();
+        let outs = [2.5, 4.0];
+        let mut snapshots = Vec::new();
+        let mut seen: Vec<(f64, Vec<f64>)> = Vec::new();
+        let summary = run_transient_observed(
+            &system,
+            &schedule,
+            ThetaScheme::crank_nicolson(),
+            &outs,
+            |s| snapshots.push(s.clone()),
+            |t, v| seen.push((t, v.to_vec())),
+            || true,
+        )
+        .unwrap();
+        assert_eq!(summary.steps, 11);
+        assert_eq!(seen.len(), 12, "the start and 11 steps");
+        assert_eq!(seen[0].0, 0.0);
+        assert_eq!(seen[0].1, system.initial_temperature().unwrap());
+        assert!((seen[11].0 - 10.0).abs() < 1e-12);
+        assert!(seen.windows(2).all(|w| w[1].0 > w[0].0));
+        for s in &snapshots {
+            let (_, v) = seen
+                .iter()
+                .find(|(t, _)| *t == s.time)
+                .expect("an output time among the steps");
+            assert_eq!(v, &s.temperature);
+        }
+        assert_eq!(snapshots.iter().map(|s| s.time).collect::<Vec<_>>(), outs);
+        // without the observer, the same outputs
+        let plain = m
+            .solve_transient_collect(&schedule, ThetaScheme::crank_nicolson(), &outs)
+            .unwrap();
+        for (a, b) in plain.iter().zip(&snapshots) {
+            assert_eq!(a.temperature, b.temperature);
+        }
+    }
 
     /// Goal: the bounds are the extremes of the initial temperatures, the
     /// ambients and the prescribed temperatures; a heat flux in removes the
