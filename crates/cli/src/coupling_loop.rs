@@ -43,8 +43,8 @@ use tecon_elastic::SolverState;
 use tecon_thermal::{HeatBalance, InterfacePointState, ThermalError, ThermalModel, ThetaScheme};
 
 use crate::driver::{
-    Contact, DriverError, Outcome, Procedure, Setup, State, TemperatureHistory, ThermalFeed,
-    ThermalInfo, ThermalMode, ThermalSetup, ThermalState, run_stages,
+    Contact, DriverError, Outcome, Procedure, Setup, State, StepExtremes, TemperatureHistory,
+    ThermalFeed, ThermalInfo, ThermalMode, ThermalSetup, ThermalState, run_stages,
 };
 
 /// Staggered two-way coupling settings.
@@ -357,6 +357,8 @@ struct Attempt {
     /// The temperatures of the history nodes after every step of the
     /// block (time, values); kept only if the attempt is accepted.
     history: Vec<(f64, Vec<f64>)>,
+    /// The lowest and highest nodal temperature of the block's steps.
+    extremes: Option<StepExtremes>,
 }
 
 impl Loop<'_, '_> {
@@ -379,6 +381,7 @@ impl Loop<'_, '_> {
             .map_err(DriverError::ThermalAssembly)?;
         let Block { t0, time0, steps } = b;
         let mut history = Vec::new();
+        let mut extremes = None;
         let (temperature, time, balance) = if steps.is_empty() {
             let s = system.solve_steady().map_err(DriverError::Steady)?;
             (s.temperature, 0.0, s.balance)
@@ -400,6 +403,7 @@ impl Loop<'_, '_> {
                 stepper
                     .step(s.dt, s.theta)
                     .map_err(DriverError::Transient)?;
+                StepExtremes::observe(&mut extremes, stepper.time(), stepper.temperature());
                 if !self.history_nodes.is_empty() {
                     let t = stepper.temperature();
                     history.push((
@@ -447,6 +451,7 @@ impl Loop<'_, '_> {
             state,
             states,
             history,
+            extremes,
         })
     }
 
@@ -568,6 +573,7 @@ pub(crate) fn two_way<'s>(
                 mode: ThermalMode::Steady,
                 steps: 0,
                 max_balance_residual: Some(max_res),
+                extremes: None,
             }
         }
         Procedure::Transient {
@@ -578,6 +584,7 @@ pub(crate) fn two_way<'s>(
             let all = split_steps(schedule, *scheme, times)?;
             let mut recorded = TemperatureHistory::new(history_nodes);
             recorded.record(schedule.start(), &initial);
+            let mut extremes = None;
             let mut t = initial.clone();
             let mut time = schedule.start();
             let mut first = 0;
@@ -693,6 +700,7 @@ pub(crate) fn two_way<'s>(
                 };
                 lp.finish_block(iterations, change);
                 recorded.extend(a.history);
+                StepExtremes::merge(&mut extremes, a.extremes);
                 steps_taken += steps.iter().filter(|s| s.dt > 0.0).count();
                 if span > 0.0 {
                     previous = Some((time, std::mem::take(&mut s_now)));
@@ -730,6 +738,7 @@ pub(crate) fn two_way<'s>(
                 mode: ThermalMode::Transient,
                 steps: steps_taken,
                 max_balance_residual: Some(max_res),
+                extremes,
             }
         }
     };
