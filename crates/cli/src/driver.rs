@@ -494,6 +494,9 @@ pub struct BoundViolation {
     pub time: f64,
     /// The node.
     pub node: usize,
+    /// The node as the note names it: "node 17", with its Gmsh node tag on
+    /// a mesh read from a Gmsh file.
+    pub node_label: String,
     /// Position of the node, m.
     pub position: [f64; 2],
     /// The states come from a transient (false: a steady state).
@@ -517,8 +520,13 @@ impl BoundViolation {
         let time = format!("{:.9}", self.time);
         let time = time.trim_end_matches('0').trim_end_matches('.');
         format!(
-            "temperature outside its physical bounds: {:.3} °C at t = {time} s, node {} at (x, y) = ({:.6}, {:.6}) m, lies {:.3} K {side} {:.3} °C, the {of} of the initial temperatures, the convection ambients and the prescribed temperatures, which heat conduction without sources cannot leave: {cause}; the thermal stresses near there carry that error",
-            self.value, self.node, self.position[0], self.position[1], self.excursion, self.bound,
+            "temperature outside its physical bounds: {:.3} °C at t = {time} s, {} at (x, y) = ({:.6}, {:.6}) m, lies {:.3} K {side} {:.3} °C, the {of} of the initial temperatures, the convection ambients and the prescribed temperatures, which heat conduction without sources cannot leave: {cause}; the thermal stresses near there carry that error",
+            self.value,
+            self.node_label,
+            self.position[0],
+            self.position[1],
+            self.excursion,
+            self.bound,
         )
     }
 }
@@ -563,6 +571,7 @@ pub fn temperature_bound_violation(
                     below,
                     time,
                     node: i,
+                    node_label: setup.mesh.node_label(i),
                     position: nodes[i],
                     transient,
                 });

@@ -24,6 +24,9 @@ pub struct RegionYield {
     pub peak_at: [f64; 2],
     /// index of that element
     pub peak_element: usize,
+    /// that element as the report names it: "triangle 5", with its Gmsh
+    /// element tag on a mesh read from a Gmsh file
+    pub peak_label: String,
     /// elements with σ_vM > σ_y
     pub elements_above: usize,
     /// their area, m²
@@ -64,6 +67,7 @@ pub fn check(
             peak: f64::NEG_INFINITY,
             peak_at: [f64::NAN; 2],
             peak_element: usize::MAX,
+            peak_label: String::new(),
             elements_above: 0,
             area_above: 0.0,
             area: 0.0,
@@ -86,6 +90,7 @@ pub fn check(
         }
         if entry.peak_element != usize::MAX {
             entry.peak_at = centroid(mesh, entry.peak_element);
+            entry.peak_label = mesh.triangle_label(entry.peak_element);
             regions.push(entry);
         }
     }
@@ -127,11 +132,11 @@ impl YieldReport {
         for r in &self.regions {
             match r.yield_stress {
                 Some(y) => v.push(format!(
-                    "region {}: peak von Mises {:.1} MPa at {} (element {}); yield {:.1} MPa: {}",
+                    "region {}: peak von Mises {:.1} MPa at {} ({}); yield {:.1} MPa: {}",
                     r.region,
                     r.peak / 1e6,
                     at(r.peak_at),
-                    r.peak_element,
+                    r.peak_label,
                     y / 1e6,
                     if r.elements_above > 0 {
                         format!(
@@ -148,11 +153,11 @@ impl YieldReport {
                     }
                 )),
                 None => v.push(format!(
-                    "region {}: peak von Mises {:.1} MPa at {} (element {}); no yield stress given",
+                    "region {}: peak von Mises {:.1} MPa at {} ({}); no yield stress given",
                     r.region,
                     r.peak / 1e6,
                     at(r.peak_at),
-                    r.peak_element
+                    r.peak_label
                 )),
             }
         }

@@ -174,6 +174,12 @@ fn a_gmsh_mesh_with_a_curved_interface_at_lc_2mm_runs_through_tecon_run() {
         stdout.contains("region inner: peak von Mises") && stdout.contains("EXCEEDED"),
         "{stdout}"
     );
+    // its element is named as the user's Gmsh file knows it
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("region inner: peak von Mises"))
+        .unwrap();
+    assert!(line.contains("(Gmsh element tag "), "{line}");
     let w = v["warnings"].as_array().expect("warnings");
     assert!(
         w.iter()
