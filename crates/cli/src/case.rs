@@ -513,7 +513,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         let bound_violation = outcome
             .bound_violation
             .as_ref()
-            .map_or(0.0, |b| b.excursion);
+            .map_or((0.0, 0.0), |b| (b.excursion, b.output_excursion));
         (
             outcome,
             p.joints,
@@ -529,13 +529,14 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         ThermalMode::Steady => json!({
             "mode": "steady",
             "heat_balance_max_rel_error": outcome.thermal.max_balance_residual,
-            "bound_violation": bound_violation,
+            "bound_violation": bound_violation.0,
         }),
         ThermalMode::Transient => json!({
             "mode": "transient",
             "steps": outcome.thermal.steps,
             "heat_balance_max_rel_error": outcome.thermal.max_balance_residual,
-            "bound_violation": bound_violation,
+            "bound_violation": bound_violation.0,
+            "bound_violation_at_outputs": bound_violation.1,
         }),
     };
     let mut summary = json!({

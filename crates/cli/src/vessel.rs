@@ -440,10 +440,12 @@ pub fn summary(run: &VesselRun) -> Value {
             "heat_balance_max_rel_error": run.heat_balance,
             "steps": run.thermal_steps,
             "output_times": run.results.iter().map(|r| r.time).collect::<Vec<_>>(),
-            // K by which the worst nodal temperature of the output states
-            // lies outside [min, max] of the initial temperatures, the
-            // ambient and any prescribed temperature (0: none, and no note)
+            // K by which the worst nodal temperature of any time step lies
+            // outside [min, max] of the initial temperatures, the ambient
+            // and any prescribed temperature (0: none, and no note); of the
+            // output states alone (their stresses are computed)
             "bound_violation": run.bound_violation.as_ref().map_or(0.0, |b| b.excursion),
+            "bound_violation_at_outputs": run.bound_violation.as_ref().map_or(0.0, |b| b.output_excursion),
         },
         "coupling_delta": coupling_delta(&run.options.data, run.options.data.ambient + 273.15),
         "coupling_delta_at_weld_temperature": coupling_delta(&run.options.data, run.options.data.weld_temperature + 273.15),

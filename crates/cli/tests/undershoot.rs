@@ -43,14 +43,20 @@ fn bound_notes(s: &serde_json::Value) -> Vec<String> {
 #[test]
 fn a_temperature_below_the_initial_field_and_ambient_is_reported() {
     let d = tempfile::tempdir().unwrap();
-    for (mesh, low, high, at) in [
-        ("paper", 15.0, 17.0, "at t = 0.4 s"),
-        ("g0", 0.6, 0.8, "at t = 0.04 s"),
+    // (mesh, worst excursion in (low, high), at, worst of the output states)
+    for (mesh, low, high, at, outputs) in [
+        ("paper", 15.0, 17.0, "at t = 0.4 s", (3.0, 5.0)),
+        ("g0", 0.6, 0.8, "at t = 0.04 s", (0.0, 0.0)),
     ] {
         let out = d.path().join(mesh);
         let s = vessel(&out, &["--mesh", mesh, "--times", "1,72000"]);
         let excursion = s["thermal"]["bound_violation"].as_f64().unwrap();
         assert!(excursion > low && excursion < high, "{mesh}: {excursion}");
+        let at_outputs = s["thermal"]["bound_violation_at_outputs"].as_f64().unwrap();
+        assert!(
+            at_outputs >= outputs.0 && at_outputs <= outputs.1,
+            "{mesh}: {at_outputs}"
+        );
         let notes = bound_notes(&s);
         assert_eq!(notes.len(), 1, "{notes:?}");
         let n = &notes[0];
@@ -58,7 +64,12 @@ fn a_temperature_below_the_initial_field_and_ambient_is_reported() {
             n.contains(at)
                 && n.contains("below 21.000 °C")
                 && n.contains("initial temperature jump")
-                && n.contains("thermal stresses"),
+                && n.contains("between the output times")
+                && n.contains(if outputs.1 > 0.0 {
+                    "lie up to 3.916 K outside"
+                } else {
+                    "stay inside the bounds"
+                }),
             "{n}"
         );
         let text = std::fs::read_to_string(out.join("report.txt")).unwrap();
