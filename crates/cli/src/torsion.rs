@@ -82,9 +82,10 @@ pub struct TorsionArgs {
     #[arg(long)]
     pub no_corner_zones: bool,
     /// Sections with re-entrant corners or inward cusps (where τ is infinite):
-    /// report, and refine until converged, the largest boundary shear stress
-    /// at least this distance from every such point [default: A/P, half the
-    /// mean wall thickness 2A/P]
+    /// the largest boundary shear stress at least R from every such point is
+    /// reported with its estimated error [default R: A/P, half the mean wall
+    /// thickness 2A/P]; when R is given, the refinement also follows it until
+    /// it meets --tol
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     pub corner_distance: Option<f64>,
     /// Output format
