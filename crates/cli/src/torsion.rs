@@ -486,13 +486,22 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                     at[1]
                 );
                 match ms.away {
-                    Some(a) => say!(
-                        "away from corners  τ/(Gθ) = {:.15e} at ({:.10}, {:.10}): the largest on the boundary at least R = {:.6e} from every singular point (--corner-distance)",
-                        a.value,
-                        a.at[0],
-                        a.at[1],
-                        a.distance
-                    ),
+                    Some(a) => {
+                        say!(
+                            "away from corners  τ/(Gθ) = {:.15e} at ({:.10}, {:.10}): the largest on the boundary at least R = {:.6e} from every singular point (--corner-distance)",
+                            a.value,
+                            a.at[0],
+                            a.at[1],
+                            a.distance
+                        );
+                        if a.distance > a.requested {
+                            say!(
+                                "                   (R raised from {:.6e}: closer to a singular point the boundary values are not resolved, whatever n; the graded corner cluster reaches {:.6e})",
+                                a.requested,
+                                a.distance
+                            );
+                        }
+                    }
                     None => say!(
                         "away from corners  none: no boundary point lies R = {:.6e} or more from every singular point (--corner-distance)",
                         opts.corner_distance
@@ -589,6 +598,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                     "value": a.value,
                     "at": a.at,
                     "distance": a.distance,
+                    "requested_distance": a.requested,
                     "estimated_error": ctl.tau_error.map(js),
                 })),
                 "n": n,

@@ -136,8 +136,11 @@ pub struct AwayShear {
     pub value: f64,
     /// where it is attained
     pub at: V2,
-    /// the distance
+    /// the distance used: `requested`, or the extent of the singular
+    /// points' graded clusters if that is larger
     pub distance: f64,
+    /// the distance asked for
+    pub requested: f64,
 }
 
 /// One sample of the boundary traction.
@@ -376,11 +379,16 @@ impl TorsionSolution {
     /// 0/0 and must not be trusted (|dw/ds| < 0.1 next to a corner, < 1e-3
     /// next to a tangent-continuous junction).
     pub fn in_cluster_on(&self, k: usize, t: f64) -> bool {
+        self.cluster_junction(k, t).is_some()
+    }
+
+    /// The junction of curve k whose graded cluster holds t, if any (see
+    /// [`TorsionSolution::in_cluster_on`]).
+    fn cluster_junction(&self, k: usize, t: f64) -> Option<usize> {
         let (sec, param, _) = self.curve(k);
         let (pk, s) = param.local(t);
-        if param.grading[pk].is_none() {
-            return false;
-        }
+        // (ungraded panels have no cluster)
+        param.grading[pk]?;
         let m = sec.pieces.len();
         let (sig, junc) = if s <= 0.5 {
             (s, pk)
@@ -393,7 +401,30 @@ impl TorsionSolution {
         } else {
             0.1
         };
-        dw < limit
+        (dw < limit).then_some(junc)
+    }
+
+    /// How far the graded clusters of the singular points reach from them:
+    /// there the boundary values are not resolved (0/0 in μ/|x′|) and are
+    /// never evaluated, whatever n (the cluster is a fixed part of its
+    /// panels).
+    pub fn singular_cluster_extent(&self) -> f64 {
+        let m = (8 * self.options.n).max(2048);
+        let mut extent = 0.0f64;
+        for k in 0..self.curve_count() {
+            let (sec, param, _) = self.curve(k);
+            for j in 0..m {
+                let t = (j as f64 + 0.5) / m as f64;
+                if let Some(junc) = self.cluster_junction(k, t) {
+                    let jn = &sec.junctions[junc];
+                    if jn.is_singular() {
+                        let x = param.eval(sec, t).x();
+                        extent = extent.max((x[0] - jn.point[0]).hypot(x[1] - jn.point[1]));
+                    }
+                }
+            }
+        }
+        extent
     }
 
     /// |q| on the outer boundary, see [`TorsionSolution::boundary_samples_on`].
@@ -464,9 +495,14 @@ impl TorsionSolution {
         }
     }
 
-    /// The largest boundary τ at least `distance` from every singular point
-    /// (None when no part of the boundary is that far from them).
-    pub fn max_shear_away(&self, distance: f64) -> Option<AwayShear> {
+    /// The largest boundary τ at least `requested` from every singular
+    /// point (None when no part of the boundary is that far from them). A
+    /// distance inside the graded clusters of the singular points, where
+    /// the boundary values are not resolved, is raised to their extent
+    /// ([`TorsionSolution::singular_cluster_extent`]; `AwayShear::distance`
+    /// says what was used).
+    pub fn max_shear_away(&self, requested: f64) -> Option<AwayShear> {
+        let distance = requested.max(self.singular_cluster_extent());
         let points = self.section.singular_points();
         let clear = |x: V2| {
             points
@@ -477,6 +513,7 @@ impl TorsionSolution {
             value,
             at,
             distance,
+            requested,
         })
     }
 

@@ -146,3 +146,20 @@ fn its_estimate_bounds_its_error_and_giving_r_makes_the_control_follow_it() {
         assert_eq!(last.max_shear_stress, Some(a.value));
     }
 }
+
+#[test]
+fn a_distance_inside_the_unresolved_corner_cluster_is_raised_and_says_so() {
+    // next to a singular point the graded cluster's boundary values are
+    // never evaluated (0/0), whatever n: a smaller R would report the
+    // cluster's edge as if it were R away
+    let sec = parse_spec(L_SPEC).unwrap();
+    for n in [512, 1024] {
+        let a = away(&sec, Method::Daubechies, n, 1e-6);
+        assert_eq!(a.requested, 1e-6);
+        assert!(a.distance > 1e-3 && a.distance < 1e-2, "{a:?}");
+        assert!(distance_to_corners(&sec, a.at) >= a.distance, "{a:?}");
+        // a distance beyond the cluster is kept as asked
+        let b = away(&sec, Method::Daubechies, n, 0.05);
+        assert_eq!((b.distance, b.requested), (0.05, 0.05));
+    }
+}
