@@ -245,3 +245,27 @@ fn staged_case_takes_refine_and_order() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(s["mesh"]["order"], 2);
 }
+
+/// On a full ring the default shear penalty of the joints stays that of
+/// level 0 (k_s/k_n = 1e-3 × 2 / rows per layer, k_n growing as the rows
+/// shrink); a half section keeps the paper's k_s = k_n; a given ratio is
+/// kept on every level.
+#[test]
+fn full_ring_shear_penalty_is_kept_across_levels() {
+    use tecon_cli::multilayer::FULL_RING_SHEAR_RATIO;
+    let mut full = MultilayerOptions::new(3, 6.4e-3, None).unwrap();
+    let mut half = MultilayerOptions::new(2, 6.4e-3, None).unwrap();
+    assert_eq!(full.effective_shear_ratio(), FULL_RING_SHEAR_RATIO);
+    for level in 0..=3u32 {
+        full.set_mesh(level, 2).unwrap();
+        half.set_mesh(level, 2).unwrap();
+        let rows = full.spec.layer_rows as f64;
+        assert_eq!(rows, 2.0 * f64::from(1 << level));
+        let k_s = full.effective_shear_ratio() / full.geometry.layers[0].thickness * rows;
+        let k_s0 = FULL_RING_SHEAR_RATIO / full.geometry.layers[0].thickness * 2.0;
+        assert!((k_s / k_s0 - 1.0).abs() < 1e-12, "level {level}");
+        assert_eq!(half.effective_shear_ratio(), 1.0);
+    }
+    full.shear_ratio = Some(0.5);
+    assert_eq!(full.effective_shear_ratio(), 0.5);
+}
