@@ -20,7 +20,10 @@
 //! The thermal strain of an element is α (T_e − T_ref,e) with T_ref,e its
 //! temperature when its layer was activated (the weld's 1132 °C stays its
 //! reference: after cooling it carries the eigenstrain, as in the
-//! monolayer). Beside the FE results: the sequential shrink fit
+//! monolayer). On 6-node triangles (`spec.order = 2`) T is the nodal field
+//! interpolated inside the element and T_ref,e the initial value of the
+//! element's region. The mesh density is a level of
+//! [`MultilayerMeshSpec::refined`] (`--mesh L`, `refine = L`). Beside the FE results: the sequential shrink fit
 //! ([`SequentialShrinkFit`]) with the plane-strain interference
 //! (1 + ν) α ΔT w / 2π of every weld.
 

@@ -164,7 +164,8 @@ pub struct MultilayerMeshSpec {
     pub growth: f64,
     /// Largest interval around the circumference, rad.
     pub max_interval: f64,
-    /// Element order, 1 or 2.
+    /// Element order, 1 or 2 (6-node triangles, mid nodes at the polar
+    /// midpoints of their edges, numbered ring after ring).
     pub order: usize,
     /// Mesh the full ring even when every seam lies on y = 0 (by default
     /// such a section is meshed as the half θ ∈ [0, π]).
@@ -402,8 +403,10 @@ pub fn multilayer_vessel_mesh(
 /// stand during staged construction: the node stations and the symmetry of
 /// the whole geometry, and the same numbering as the whole mesh (its nodes
 /// and triangles are the first ones of [`multilayer_vessel_mesh`]'s, its
-/// regions the first names). Edge set `outer` is the outer surface of layer
-/// `layers`. Errors: `layers` zero or more than the geometry has.
+/// regions the first names; at order 2 too, where every ring's corner
+/// nodes are followed by its mid nodes). Edge set `outer` is the outer
+/// surface of layer `layers`. Errors: `layers` zero or more than the
+/// geometry has.
 pub fn multilayer_stage_mesh(
     geo: &MultilayerGeometry,
     spec: &MultilayerMeshSpec,
