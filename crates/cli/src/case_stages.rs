@@ -7,6 +7,9 @@
 //! inner_radius = 0.762            # m
 //! core_thickness = 0.0127         # m
 //! friction = 0.3                  # μ of every joint (default 0.3)
+//! refine = 0                      # mesh level 0..=4 (default 0), each halving
+//!                                 #   every interval of the one before
+//! order = 1                       # 1: 3-node (default), 2: 6-node triangles
 //! [[multilayer.layer]]            # from the core outwards
 //! thickness = 0.0064              # m, or r_in = …, r_out = … (r_in must be
 //! seam = 0.0                      #   the outer radius of the ring below)
@@ -92,6 +95,11 @@ pub struct MultilayerSection {
     pub core_thickness: f64,
     /// Friction coefficient μ of every joint (default 0.3).
     pub friction: Option<f64>,
+    /// Mesh refinement level 0..=4 (default 0, two rows of triangles
+    /// through every ring), as `tecon vessel --layers N --mesh L`.
+    pub refine: Option<u32>,
+    /// Element order: 1 (3-node triangles, default) or 2 (6-node).
+    pub order: Option<usize>,
     /// `[[multilayer.layer]]`, from the core outwards.
     #[serde(default)]
     pub layer: Vec<WrapSection>,
@@ -223,6 +231,15 @@ pub fn options(case: &StagedCase) -> CliResult<MultilayerOptions> {
     let mut o = MultilayerOptions::new(n, geometry.layers[0].thickness, None)?;
     o.geometry = geometry;
     o.quiet = !case.progress;
+    if m.refine.is_some() || m.order.is_some() {
+        let (level, order) = (m.refine.unwrap_or(0), m.order.unwrap_or(1));
+        o.set_mesh(level, order).map_err(|e| {
+            err(
+                f,
+                format!("[multilayer]: refine = {level}, order = {order}: {e}"),
+            )
+        })?;
+    }
     if let Some(mu) = m.friction {
         if !(mu.is_finite() && mu >= 0.0) {
             return Err(err(

@@ -544,9 +544,14 @@ pub fn vessel_inputs(args: &VesselArgs) -> Option<Vec<(String, String)>> {
 /// The inputs of a `tecon vessel --layers N` run as resolved (see
 /// [`vessel_inputs`]).
 fn multilayer_inputs(args: &VesselArgs, n: usize) -> Option<Vec<(String, String)>> {
-    let o =
+    let mut o =
         crate::multilayer::MultilayerOptions::new(n, args.layer_thickness, args.seams.as_deref())
             .ok()?;
+    o.set_mesh(
+        crate::multilayer_out::mesh_level(&args.mesh).ok()?,
+        args.order.unwrap_or(1),
+    )
+    .ok()?;
     let g = &o.geometry;
     let mut rows: Vec<(String, String)> = Vec::new();
     let mut row = |k: &str, v: String| rows.push((k.to_string(), v));

@@ -20,7 +20,10 @@
 //! The thermal strain of an element is α (T_e − T_ref,e) with T_ref,e its
 //! temperature when its layer was activated (the weld's 1132 °C stays its
 //! reference: after cooling it carries the eigenstrain, as in the
-//! monolayer). Beside the FE results: the sequential shrink fit
+//! monolayer). On 6-node triangles (`spec.order = 2`) T is the nodal field
+//! interpolated inside the element and T_ref,e the initial value of the
+//! element's region. The mesh density is a level of
+//! [`MultilayerMeshSpec::refined`] (`--mesh L`, `refine = L`). Beside the FE results: the sequential shrink fit
 //! ([`SequentialShrinkFit`]) with the plane-strain interference
 //! (1 + ν) α ΔT w / 2π of every weld.
 
@@ -48,6 +51,9 @@ pub struct MultilayerOptions {
     pub geometry: MultilayerGeometry,
     /// Mesh density.
     pub spec: MultilayerMeshSpec,
+    /// Refinement level of [`MultilayerOptions::spec`]
+    /// ([`MultilayerMeshSpec::refined`]); None: a spec of its own.
+    pub mesh_level: Option<u32>,
     /// Material and process data (the monolayer's).
     pub data: VesselData,
     /// Friction coefficient μ of every joint.
@@ -102,6 +108,7 @@ impl MultilayerOptions {
         Ok(MultilayerOptions {
             geometry,
             spec: MultilayerMeshSpec::default(),
+            mesh_level: Some(0),
             data: VesselData::default(),
             friction: 0.3,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
@@ -112,6 +119,17 @@ impl MultilayerOptions {
             quiet: false,
             condensation: true,
         })
+    }
+
+    /// The mesh of refinement level `level` ([`MultilayerMeshSpec::refined`])
+    /// with elements of order `order` (1: 3-node, 2: 6-node triangles).
+    pub fn set_mesh(&mut self, level: u32, order: usize) -> CliResult<()> {
+        self.spec = MultilayerMeshSpec {
+            full_section: self.spec.full_section,
+            ..MultilayerMeshSpec::refined(level, order)?
+        };
+        self.mesh_level = Some(level);
+        Ok(())
     }
 
     /// The initial temperature of weld `k` (1-based), °C.
@@ -143,12 +161,19 @@ impl MultilayerOptions {
         self.spec.half_section(&self.geometry)
     }
 
-    /// The joints' k_s / k_n (see [`MultilayerOptions::shear_ratio`]).
+    /// The joints' k_s / k_n (see [`MultilayerOptions::shear_ratio`]). On
+    /// a full ring the default keeps the shear penalty k_s of the default
+    /// mesh on refined ones: k_n = β E / h grows as the rows h shrink, so
+    /// the ratio falls as [`FULL_RING_SHEAR_RATIO`] × 2 / (rows per layer)
+    /// (with the ratio held, the stick band μ p / k_s narrowed by 2 per
+    /// level and the Newton passes of levels 1 and 2 found a layer free to
+    /// spin at the first output time).
     pub fn effective_shear_ratio(&self) -> f64 {
         self.shear_ratio.unwrap_or(if self.half_section() {
             1.0
         } else {
-            FULL_RING_SHEAR_RATIO
+            FULL_RING_SHEAR_RATIO * MultilayerMeshSpec::default().layer_rows as f64
+                / self.spec.layer_rows as f64
         })
     }
 }
@@ -407,9 +432,17 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         let sm = multilayer_stage_mesh(geo, &o.spec, k)?;
         let thermal = stage_thermal_model(o, &sm, k, &temperature)?;
         let system = thermal.assemble()?;
-        let own = system
-            .reference_temperature()
-            .ok_or("thermal: no initial temperature")?;
+        // the stress-free temperature of the new ring's elements (the
+        // earlier ones keep theirs): on linear triangles the element mean of
+        // the initial field, on 6-node ones the region's initial value, so
+        // the weld's eigenstrain keeps its jump at the weld edge (as in the
+        // monolayer, driver::stress_free_reference)
+        let own = if sm.order() == 2 {
+            system.region_initial_temperature().map(<[f64]>::to_vec)
+        } else {
+            system.reference_temperature()
+        }
+        .ok_or("thermal: no initial temperature")?;
         reference.extend_from_slice(&own[reference.len()..]);
         let mut outputs = Vec::new();
         let heat_clock = std::time::Instant::now();
@@ -442,9 +475,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         let mut newton = 0;
         let mut last = None;
         for (i, (t_nodal, t_el, balance)) in outputs.iter().enumerate() {
-            // the layers not yet wrapped: no temperature change
-            let mut delta_t: Vec<f64> = t_el.iter().zip(&reference).map(|(t, r)| t - r).collect();
-            delta_t.resize(mesh.n_triangles(), 0.0);
+            let delta_t = stage_thermal_load(&mesh, t_nodal, t_el, &reference);
             let reports = solver
                 .advance(&Loads {
                     delta_t,
@@ -477,7 +508,9 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         let ring_means = (0..=n)
             .map(|r| ring_mean(&mesh, &state.stress.element, r))
             .collect();
-        let pressures = (0..k).map(|j| mean_pressure(&state.interface, j)).collect();
+        let pressures = (0..k)
+            .map(|j| mean_pressure(&state.interface, &state.interface_weights, j))
+            .collect();
         let (analytical_means, analytical_pressures) = closed_form(o, &fit, k, 0.0);
         stages.push(StageResult {
             layers: k,
@@ -532,7 +565,9 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         let ring_means = (0..=n)
             .map(|r| ring_mean(&mesh, &state.stress.element, r))
             .collect();
-        let pressures = (0..n).map(|j| mean_pressure(&state.interface, j)).collect();
+        let pressures = (0..n)
+            .map(|j| mean_pressure(&state.interface, &state.interface_weights, j))
+            .collect();
         let (analytical_means, analytical_pressures) = closed_form(o, &fit, n, p);
         stages.push(StageResult {
             layers: n,
@@ -557,6 +592,41 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         fit,
         seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// The thermal load of the whole mesh from a stage's temperatures: the
+/// stage mesh's nodes and triangles are the first ones of the whole mesh
+/// (`nodal`, `element_mean` and the references `reference` cover them);
+/// the layers not yet wrapped get no temperature change. Linear triangles:
+/// one value per element, T̄_e − T_ref,e; 6-node triangles: six per
+/// element, T_a − T_ref,e (the layout of `Loads::delta_t`).
+pub fn stage_thermal_load(
+    mesh: &Mesh,
+    nodal: &[f64],
+    element_mean: &[f64],
+    reference: &[f64],
+) -> Vec<f64> {
+    match mesh.triangles6() {
+        Some(t6) => t6
+            .iter()
+            .enumerate()
+            .flat_map(|(e, t)| {
+                t.map(|a| match reference.get(e) {
+                    Some(r) if e < element_mean.len() => nodal[a] - r,
+                    _ => 0.0,
+                })
+            })
+            .collect(),
+        None => {
+            let mut d: Vec<f64> = element_mean
+                .iter()
+                .zip(reference)
+                .map(|(t, r)| t - r)
+                .collect();
+            d.resize(mesh.n_triangles(), 0.0);
+            d
+        }
+    }
 }
 
 /// Whether region `name` belongs to ring `ring` (0 = core; k = layer k and weld k).
@@ -585,10 +655,7 @@ pub fn ring_mean(mesh: &Mesh, stress: &[[f64; 4]], ring: usize) -> f64 {
             (p[0][0] + p[1][0] + p[2][0]) / 3.0,
             (p[0][1] + p[1][1] + p[2][1]) / 3.0,
         ];
-        let area = 0.5
-            * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
-                - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
-                .abs();
+        let area = element_area(mesh, e);
         let wr = area / c[0].hypot(c[1]);
         s += polar(stress[e], c, [0.0, 0.0])[1] * wr;
         w += wr;
@@ -596,19 +663,32 @@ pub fn ring_mean(mesh: &Mesh, stress: &[[f64; 4]], ring: usize) -> f64 {
     if w > 0.0 { s / w } else { f64::NAN }
 }
 
-/// Arc-length weighted mean contact pressure of interface `index` (open points count 0).
-pub fn mean_pressure(points: &[InterfacePointResult], index: usize) -> f64 {
-    let mut s = 0.0;
-    let mut w = 0.0;
-    let pts: Vec<&InterfacePointResult> = points.iter().filter(|p| p.interface == index).collect();
-    for pair in pts.chunks(2) {
-        if pair.len() < 2 {
-            continue;
+/// The area of triangle `e`: of its curved 6-node shape on a quadratic
+/// mesh, of its corners' triangle on a linear one.
+pub fn element_area(mesh: &Mesh, e: usize) -> f64 {
+    let x = mesh.nodes();
+    match mesh.triangles6() {
+        Some(t6) => tecon_mesh::quadratic::p2_area(&t6[e].map(|v| x[v])).abs(),
+        None => {
+            let p = mesh.triangles()[e].map(|v| x[v]);
+            0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
+                .abs()
         }
-        let (a, b) = (pair[0].position, pair[1].position);
-        let len = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
-        s += 0.5 * len * (-pair[0].traction[1] - pair[1].traction[1]);
-        w += len;
+    }
+}
+
+/// Mean contact pressure of interface `index` (open points count 0),
+/// weighted by the points' integration weights `weights` (arc length of
+/// the bottom face, one per point of `points`: two per 4-node element,
+/// three per 6-node one, as in [`crate::driver::interface_point_weights`]).
+pub fn mean_pressure(points: &[InterfacePointResult], weights: &[f64], index: usize) -> f64 {
+    let (mut s, mut w) = (0.0, 0.0);
+    for (p, &wp) in points.iter().zip(weights) {
+        if p.interface == index {
+            s += wp * -p.traction[1];
+            w += wp;
+        }
     }
     if w > 0.0 { s / w } else { 0.0 }
 }

@@ -633,7 +633,13 @@ pub fn summary(run: &MultilayerRun) -> Value {
             "internal_pressure": run.options.pressure,
             "shear_penalty_ratio": run.options.effective_shear_ratio(),
         },
-        "mesh": { "triangles": run.mesh.n_triangles(), "nodes": run.mesh.n_nodes() },
+        "mesh": {
+            "triangles": run.mesh.n_triangles(),
+            "nodes": run.mesh.n_nodes(),
+            "order": run.mesh.order(),
+            "level": run.options.mesh_level,
+            "rows_per_layer": run.options.spec.layer_rows,
+        },
         "stages": (1..=run.stages.len()).map(|k| stage_summary(run, k)).collect::<Vec<_>>(),
         "max_relative_error_ring_means": worst,
     })
@@ -683,11 +689,7 @@ pub fn band_means(run: &MultilayerRun, stage: usize, ring: usize) -> Vec<(f64, f
         ];
         let rc = c[0].hypot(c[1]);
         let band = (((rc - r_in) / dr).floor().max(0.0) as usize).min(rows_n - 1);
-        let area = 0.5
-            * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
-                - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
-                .abs();
-        let w = area / rc;
+        let w = crate::multilayer::element_area(mesh, e) / rc;
         acc[band].0 += polar(stress[e], c, [0.0, 0.0])[1] * w;
         acc[band].1 += w;
     }
@@ -894,9 +896,13 @@ pub fn timing(run: &MultilayerRun) -> Value {
 /// A short text report.
 pub fn report(run: &MultilayerRun) -> String {
     let mut s = format!(
-        "multilayer vessel: {} layers, {} triangles ({}), {:.1} s\n",
+        "multilayer vessel: {} layers, {} {}-node triangles{}, {}, {:.1} s\n",
         run.options.geometry.layers.len(),
         run.mesh.n_triangles(),
+        3 * run.mesh.order(),
+        run.options
+            .mesh_level
+            .map_or(String::new(), |l| format!(", mesh level {l}")),
         if run.options.half_section() {
             "half section"
         } else {
@@ -959,6 +965,27 @@ pub fn report(run: &MultilayerRun) -> String {
     s
 }
 
+/// The multilayer refinement level of `--mesh` (with `--layers`): a level
+/// `0..=4`, or the monolayer's default `g0` for level 0; the monolayer's
+/// mesh names (`gL` but g0, `paper`, `xF`, `tN`) are refused by name.
+pub fn mesh_level(mesh: &str) -> CliResult<u32> {
+    if mesh == crate::builtin::DEFAULT_MESH {
+        return Ok(0);
+    }
+    let max = tecon_mesh::multilayer::MULTILAYER_MAX_LEVEL;
+    match mesh.parse::<u32>() {
+        Ok(l) if l <= max => Ok(l),
+        Ok(l) => Err(format!(
+            "--mesh {l} with --layers: the multilayer mesh offers levels 0..={max} (each halves every interval of the one before, about 4 times the triangles)"
+        )
+        .into()),
+        Err(_) => Err(format!(
+            "--mesh {mesh} with --layers: give a refinement level 0..={max} of the multilayer mesh (0: two rows of triangles through every ring, two intervals across each weld half width, intervals up to 3°; each level halves every interval); the monolayer's meshes (gL, paper, xF, tN) do not apply to a multilayer vessel"
+        )
+        .into()),
+    }
+}
+
 /// `tecon vessel --layers N …`: builds the options, runs, writes, reports.
 /// Returns the warnings (a yield stress exceeded). The printed report is
 /// also saved as `report.txt`; `--quiet` prints nothing but the warnings.
@@ -977,17 +1004,20 @@ pub fn run(
         ("--coupling two-way", args.coupling != "one-way"),
         ("--cohesion", args.cohesion.is_some_and(|c| c != 0.0)),
         ("--interface", args.interface != "frictional"),
-        ("--order", args.order.is_some_and(|o| o != 1)),
-        (
-            "--mesh (the multilayer mesh has its own density)",
-            args.mesh != crate::builtin::DEFAULT_MESH,
-        ),
     ];
     if let Some((name, _)) = unsupported.iter().find(|(_, on)| *on) {
         return Err(format!("{name} is not available with --layers yet").into());
     }
     let mut o =
         crate::multilayer::MultilayerOptions::new(n, args.layer_thickness, args.seams.as_deref())?;
+    let level = mesh_level(&args.mesh)?;
+    o.set_mesh(level, args.order.unwrap_or(1)).map_err(|e| {
+        format!(
+            "--mesh {} --order {}: {e}",
+            args.mesh,
+            args.order.unwrap_or(1)
+        )
+    })?;
     if let Some(f) = args.friction {
         if !(f.is_finite() && f >= 0.0) {
             return Err(format!("--friction {f}: must be non-negative").into());

@@ -525,7 +525,7 @@ times = [72000.0]
 /// temperature for a layer stage); the interface CSV
 /// has one row per point, sorted by interface and angle; the through-wall
 /// CSV holds element-row means whose area/r-weighted mean is the ring mean
-/// of the summary; a `--mesh` the multilayer run would ignore is refused.
+/// of the summary; a monolayer `--mesh` the multilayer run cannot use is refused.
 #[test]
 fn the_layers_run_reports_yield_figures_and_sorted_csvs() {
     let dir = tempfile::tempdir().unwrap();
@@ -637,7 +637,9 @@ fn the_layers_run_reports_yield_figures_and_sorted_csvs() {
     }
     // a mesh option the multilayer run cannot honour is refused, not ignored
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
-        .args(["vessel", "--layers", "2", "--mesh", "4", "--quiet", "--out"])
+        .args([
+            "vessel", "--layers", "2", "--mesh", "paper", "--quiet", "--out",
+        ])
         .arg(dir.path().join("m4"))
         .output()
         .unwrap();

@@ -164,7 +164,8 @@ pub struct MultilayerMeshSpec {
     pub growth: f64,
     /// Largest interval around the circumference, rad.
     pub max_interval: f64,
-    /// Element order, 1 or 2.
+    /// Element order, 1 or 2 (6-node triangles, mid nodes at the polar
+    /// midpoints of their edges, numbered ring after ring).
     pub order: usize,
     /// Mesh the full ring even when every seam lies on y = 0 (by default
     /// such a section is meshed as the half θ ∈ [0, π]).
@@ -187,7 +188,42 @@ impl Default for MultilayerMeshSpec {
     }
 }
 
+/// Largest level of [`MultilayerMeshSpec::refined`].
+pub const MULTILAYER_MAX_LEVEL: u32 = 4;
+
 impl MultilayerMeshSpec {
+    /// Refinement level `level` (0 ..= [`MULTILAYER_MAX_LEVEL`]) of the
+    /// default density, with elements of order `order`: every interval
+    /// halved `level` times. With f = 2^level: 2f rows through the core and
+    /// through each layer, 2f intervals across each weld half width, the
+    /// intervals outside the welds growing by 1.3^(1/f) from one weld
+    /// interval up to 3°/f (so the level's stations interleave those of
+    /// the level before, about 4^level times the triangles of level 0).
+    /// Level 0 is [`MultilayerMeshSpec::default`] (at order 1).
+    pub fn refined(level: u32, order: usize) -> Result<Self, MeshError> {
+        if level > MULTILAYER_MAX_LEVEL {
+            return Err(MeshError::InvalidParameter {
+                name: "level",
+                value: level.to_string(),
+                reason: format!(
+                    "multilayer refinement levels 0..={MULTILAYER_MAX_LEVEL} are offered (each level has about 4 times the triangles of the one before)"
+                ),
+            });
+        }
+        crate::generators::check_order(order)?;
+        let f = 1usize << level;
+        let d = Self::default();
+        Ok(MultilayerMeshSpec {
+            core_rows: d.core_rows * f,
+            layer_rows: d.layer_rows * f,
+            weld_divisions: d.weld_divisions * f,
+            growth: d.growth.powf(1.0 / f as f64),
+            max_interval: d.max_interval / f as f64,
+            order,
+            ..d
+        })
+    }
+
     /// Whether `geo` is meshed as the half section θ ∈ [0, π] (every seam on
     /// y = 0 and no full section asked for).
     pub fn half_section(&self, geo: &MultilayerGeometry) -> bool {
@@ -367,8 +403,10 @@ pub fn multilayer_vessel_mesh(
 /// stand during staged construction: the node stations and the symmetry of
 /// the whole geometry, and the same numbering as the whole mesh (its nodes
 /// and triangles are the first ones of [`multilayer_vessel_mesh`]'s, its
-/// regions the first names). Edge set `outer` is the outer surface of layer
-/// `layers`. Errors: `layers` zero or more than the geometry has.
+/// regions the first names; at order 2 too, where every ring's corner
+/// nodes are followed by its mid nodes). Edge set `outer` is the outer
+/// surface of layer `layers`. Errors: `layers` zero or more than the
+/// geometry has.
 pub fn multilayer_stage_mesh(
     geo: &MultilayerGeometry,
     spec: &MultilayerMeshSpec,
@@ -497,7 +535,82 @@ pub fn multilayer_stage_mesh(
         mesh.add_interface(&name, &bottom, &top, None)?;
     }
     if spec.order == 2 {
-        return mesh.to_quadratic_polar([0.0, 0.0]);
+        base.push(mesh.n_nodes());
+        return ring_major(mesh.to_quadratic_polar([0.0, 0.0])?, &base);
     }
     Ok(mesh)
+}
+
+/// A 6-node mesh renumbered ring after ring: the corner nodes of the core,
+/// its mid nodes, the corner nodes of layer 1, its mid nodes, … (each block
+/// in the order [`Mesh::to_quadratic_polar`] made it), so that the mesh of
+/// the first k rings numbers its nodes as the whole mesh does (a stage mesh
+/// is a prefix of the whole one at order 2 too). `corners[r]..corners[r + 1]`
+/// are ring r's corner nodes; the triangles come ring after ring and no edge
+/// is shared by two rings, so every ring's mid nodes form one block too.
+fn ring_major(q: Mesh, corners: &[usize]) -> Result<Mesh, MeshError> {
+    let n_rings = corners.len() - 1;
+    let t6 = q.triangles6.as_deref().unwrap_or(&[]);
+    // ring of every corner node, then the first and last mid node of each ring
+    let ring_of = |v: usize| corners.partition_point(|&c| c <= v) - 1;
+    let mut mids = vec![(usize::MAX, 0usize); n_rings];
+    for t in t6 {
+        let r = ring_of(t[0]);
+        for &m in &t[3..] {
+            mids[r].0 = mids[r].0.min(m);
+            mids[r].1 = mids[r].1.max(m + 1);
+        }
+    }
+    let mut new_of = vec![usize::MAX; q.n_nodes()];
+    let mut next = 0;
+    for r in 0..n_rings {
+        for v in (corners[r]..corners[r + 1]).chain(mids[r].0..mids[r].1) {
+            new_of[v] = next;
+            next += 1;
+        }
+    }
+    if next != q.n_nodes() || new_of.contains(&usize::MAX) {
+        return Err(MeshError::InvalidParameter {
+            name: "order",
+            value: "2".into(),
+            reason: "internal: the mid nodes of the rings do not form one block per ring".into(),
+        });
+    }
+    let mut nodes = vec![[0.0; 2]; q.n_nodes()];
+    for (v, p) in q.nodes.iter().enumerate() {
+        nodes[new_of[v]] = *p;
+    }
+    let tris = t6.iter().map(|t| t.map(|v| new_of[v])).collect();
+    let mut out = Mesh::new_quadratic(
+        nodes,
+        tris,
+        q.element_region.clone(),
+        q.region_names.clone(),
+    )?;
+    out.notices = q.notices.clone();
+    out.edge_sets = q
+        .edge_sets
+        .iter()
+        .map(|(k, e)| (k.clone(), e.iter().map(|p| p.map(|v| new_of[v])).collect()))
+        .collect();
+    out.node_sets = q
+        .node_sets
+        .iter()
+        .map(|(k, s)| {
+            let mut s: Vec<usize> = s.iter().map(|&v| new_of[v]).collect();
+            s.sort_unstable();
+            (k.clone(), s)
+        })
+        .collect();
+    out.interfaces = q
+        .interfaces
+        .iter()
+        .map(|(k, i)| {
+            let mut i = i.clone();
+            i.elements = i.elements.iter().map(|e| e.map(|v| new_of[v])).collect();
+            i.mid_nodes = i.mid_nodes.iter().map(|e| e.map(|v| new_of[v])).collect();
+            (k.clone(), i)
+        })
+        .collect();
+    Ok(out)
 }

@@ -227,3 +227,143 @@ fn stage_meshes_are_prefixes_of_the_whole_mesh() {
         assert!(e.contains("layers"), "{e}");
     }
 }
+
+/// At order 2 a stage mesh is a prefix of the whole mesh too (nodes ring
+/// after ring, each ring's mid nodes right after its corners), and the
+/// whole mesh is the polar promotion of the linear one: same corner
+/// positions, every mid node at the mean radius and angle of its edge.
+#[test]
+fn stage_meshes_are_prefixes_of_the_whole_mesh_at_order_2() {
+    use tecon_mesh::multilayer_stage_mesh;
+    for geo in [
+        MultilayerGeometry::staggered(0.762, 12.7e-3, 3, 6.4e-3, 3.8e-3),
+        MultilayerGeometry {
+            layers: vec![
+                WeldedLayer {
+                    thickness: 6.4e-3,
+                    weld_half_width: 3.8e-3,
+                    seam_angle: 0.0,
+                },
+                WeldedLayer {
+                    thickness: 6.4e-3,
+                    weld_half_width: 3.8e-3,
+                    seam_angle: PI,
+                },
+            ],
+            ..five_staggered()
+        },
+    ] {
+        let n = geo.layers.len();
+        let spec = MultilayerMeshSpec::refined(1, 2).unwrap();
+        let whole = multilayer_vessel_mesh(&geo, &spec).unwrap();
+        let t6 = whole.triangles6().expect("6-node triangles");
+        for k in 1..=n {
+            let m = multilayer_stage_mesh(&geo, &spec, k).unwrap();
+            assert_eq!(m.order(), 2);
+            assert_eq!(m.nodes(), &whole.nodes()[..m.n_nodes()], "stage {k}");
+            assert_eq!(m.triangles6().unwrap(), &t6[..m.n_triangles()]);
+            assert_eq!(m.bodies().len(), k + 1);
+            // the stage's triangles use exactly its nodes
+            let mut used = vec![false; m.n_nodes()];
+            m.triangles6()
+                .unwrap()
+                .iter()
+                .flatten()
+                .for_each(|&v| used[v] = true);
+            assert!(
+                used.iter().all(|&u| u),
+                "stage {k}: a node no triangle uses"
+            );
+            for (name, itf) in m.interfaces() {
+                assert_eq!(itf, whole.interface(name).unwrap(), "{name}");
+                assert_eq!(itf.mid_nodes.len(), itf.elements.len());
+            }
+            if geo.is_symmetric() {
+                assert_eq!(
+                    m.node_set("sym0").unwrap(),
+                    &whole.node_set("sym0").unwrap()[..m.node_set("sym0").unwrap().len()]
+                );
+            }
+        }
+        // against the plain promotion of the linear mesh
+        let linear =
+            multilayer_vessel_mesh(&geo, &MultilayerMeshSpec { order: 1, ..spec }).unwrap();
+        assert_eq!(whole.n_triangles(), linear.n_triangles());
+        let x = whole.nodes();
+        for (t, l) in t6.iter().zip(linear.triangles()) {
+            for a in 0..3 {
+                assert_eq!(x[t[a]], linear.nodes()[l[a]]);
+            }
+            for (m, (a, b)) in [(3, (0, 1)), (4, (1, 2)), (5, (2, 0))] {
+                let (p, q, c) = (x[t[a]], x[t[b]], x[t[m]]);
+                let r = 0.5 * (p[0].hypot(p[1]) + q[0].hypot(q[1]));
+                assert!((c[0].hypot(c[1]) - r).abs() < 1e-12 * r);
+                let mut dt = q[1].atan2(q[0]) - p[1].atan2(p[0]);
+                if dt > PI {
+                    dt -= 2.0 * PI;
+                } else if dt <= -PI {
+                    dt += 2.0 * PI;
+                }
+                let tm = p[1].atan2(p[0]) + 0.5 * dt;
+                let d = (c[1].atan2(c[0]) - tm).rem_euclid(2.0 * PI);
+                assert!(
+                    d.min(2.0 * PI - d) < 1e-12,
+                    "mid node off its polar midpoint"
+                );
+            }
+        }
+        for v in whole.edge_set_nodes("sym0").into_iter().flatten() {
+            assert!(x[v][1].abs() < 1e-12);
+        }
+    }
+}
+
+/// Refinement levels halve every interval: twice the rows and weld
+/// intervals, about twice the stations (each level's stations interleave
+/// the level before's), level 0 the default density; levels beyond the
+/// largest and bad orders are refused by name.
+#[test]
+fn refinement_levels_halve_every_interval() {
+    use tecon_mesh::multilayer::MULTILAYER_MAX_LEVEL;
+    let geo = MultilayerGeometry::staggered(0.762, 12.7e-3, 3, 6.4e-3, 3.8e-3);
+    assert_eq!(
+        MultilayerMeshSpec::refined(0, 1).unwrap(),
+        MultilayerMeshSpec::default()
+    );
+    let mut last: Option<(Vec<f64>, MultilayerMeshSpec)> = None;
+    for level in 0..=3 {
+        let spec = MultilayerMeshSpec::refined(level, 1).unwrap();
+        let st = multilayer_station_angles(&geo, &spec).unwrap();
+        let widest = st
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .chain([2.0 * PI - st[st.len() - 1]])
+            .fold(0.0, f64::max);
+        assert!(widest <= spec.max_interval * (1.0 + 1e-12));
+        if let Some((prev, p)) = &last {
+            assert_eq!(spec.core_rows, 2 * p.core_rows);
+            assert_eq!(spec.layer_rows, 2 * p.layer_rows);
+            assert_eq!(spec.weld_divisions, 2 * p.weld_divisions);
+            let ratio = st.len() as f64 / prev.len() as f64;
+            assert!((1.9..2.1).contains(&ratio), "level {level}: {ratio}");
+            // every weld edge and seam stays a station at every level
+            for k in 0..3 {
+                let (s, t) = (geo.layers[k].seam_angle, geo.weld_half_angle(k));
+                for a in [s - t, s, s + t] {
+                    let a = a.rem_euclid(2.0 * PI);
+                    assert!(st.iter().any(|&x| (x - a).abs() < 1e-9), "level {level}");
+                }
+            }
+        }
+        last = Some((st, spec));
+    }
+    for (level, order) in [(MULTILAYER_MAX_LEVEL + 1, 1), (1, 3), (0, 0)] {
+        let e = MultilayerMeshSpec::refined(level, order)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(if order == 1 { "level" } else { "order" }),
+            "{e}"
+        );
+    }
+}
