@@ -409,6 +409,8 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         o.stage_output_times(k)?;
     }
     let mesh = multilayer_vessel_mesh(geo, &o.spec)?;
+    // refused up front when it cannot fit, as every other analysis
+    crate::memory::check("the multilayer mesh", mesh.n_triangles(), mesh.order())?;
     let fit = sequential_fit(o)?;
     let solver_options = SolverOptions {
         augmented_lagrangian: Some(1e-4),

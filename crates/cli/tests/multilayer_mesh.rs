@@ -182,6 +182,30 @@ fn mesh_and_order_options_of_the_layers_run() {
     assert_eq!(s["mesh"]["order"], 2);
     assert_eq!(s["mesh"]["level"], 1);
     assert_eq!(s["mesh"]["rows_per_layer"], 4);
+    // a mesh that resolves the seams has no note about them ...
+    assert_eq!(s["notes"], serde_json::json!([]));
+    assert!(!text.contains("not resolved by this mesh"), "{text}");
+    // ... the default one says it does not, in the report and the summary
+    let out = dir.path().join("default");
+    let o = tecon(
+        &["vessel", "--layers", "1", "--times", "72000", "--quiet"],
+        &out,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("report.txt")).unwrap();
+    assert!(
+        text.contains("note: the stresses at the seams are not resolved by this mesh (3-node triangles, level 0)")
+            && text.contains("--order 2 --mesh 1"),
+        "{text}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert!(
+        s["notes"][0]
+            .as_str()
+            .unwrap()
+            .contains("seams are not resolved")
+    );
     for (args, what) in [
         (vec!["--mesh", "paper"], "--mesh paper with --layers"),
         (vec!["--mesh", "g1"], "gL, paper"),
@@ -268,4 +292,28 @@ fn full_ring_shear_penalty_is_kept_across_levels() {
     }
     full.shear_ratio = Some(0.5);
     assert_eq!(full.effective_shear_ratio(), 0.5);
+}
+
+/// A multilayer mesh that cannot fit is refused up front with the
+/// estimate, as every other analysis (here under an address-space limit of
+/// 1 GB: level 3 at order 2, 61 536 triangles, needs about 1.6 GB).
+#[test]
+fn a_multilayer_mesh_too_large_for_memory_is_refused_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 1000000; exec '{}' vessel --layers 2 --seams 0,180 --mesh 3 --order 2 --quiet --out '{}'",
+            env!("CARGO_BIN_EXE_tecon"),
+            dir.path().join("big").display()
+        ))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("the multilayer mesh: 61536 triangles need about 1.6 GB of memory")
+            && err.contains("GB are available"),
+        "{err}"
+    );
 }
