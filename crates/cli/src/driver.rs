@@ -562,13 +562,30 @@ pub fn temperature_bound_violation(
         Procedure::Steady => false,
         Procedure::Transient { .. } => true,
     };
-    let (lower, upper) = th.model.temperature_bounds()?;
+    let outputs: Vec<(f64, &[f64])> = states
+        .iter()
+        .filter_map(|s| s.temperature.as_deref().map(|t| (s.time, t)))
+        .collect();
+    bound_violation_of(&th.model, setup.mesh, transient, &outputs, extremes)
+}
+
+/// [`temperature_bound_violation`] of a heat conduction `model` on `mesh`
+/// (whose first nodes the temperatures are): `outputs` the output states
+/// (time, nodal temperatures), `extremes` those of every time step.
+pub fn bound_violation_of(
+    model: &tecon_thermal::ThermalModel<'_>,
+    mesh: &Mesh,
+    transient: bool,
+    outputs: &[(f64, &[f64])],
+    extremes: Option<StepExtremes>,
+) -> Option<BoundViolation> {
+    let (lower, upper) = model.temperature_bounds()?;
     let range = match (lower, upper) {
         (Some(l), Some(u)) => u - l,
         _ => 0.0,
     };
     let tol = 1e-6 * range.max(1.0);
-    let nodes = setup.mesh.nodes();
+    let nodes = mesh.nodes();
     let mut worst: Option<BoundViolation> = None;
     let take = |worst: &mut Option<BoundViolation>, v: f64, time: f64, i: usize| {
         let cand = [
@@ -584,7 +601,7 @@ pub fn temperature_bound_violation(
                     below,
                     time,
                     node: i,
-                    node_label: setup.mesh.node_label(i),
+                    node_label: mesh.node_label(i),
                     position: nodes[i],
                     transient,
                     output_excursion: 0.0,
@@ -592,10 +609,9 @@ pub fn temperature_bound_violation(
             }
         }
     };
-    for s in states {
-        let Some(t) = &s.temperature else { continue };
+    for &(time, t) in outputs {
         for (i, &v) in t.iter().enumerate() {
-            take(&mut worst, v, s.time, i);
+            take(&mut worst, v, time, i);
         }
     }
     let output_excursion = worst.as_ref().map_or(0.0, |w| w.excursion);

@@ -228,6 +228,9 @@ pub struct StageResult {
     /// (time in s, one value per node of the stage's mesh: the first nodes
     /// of the whole mesh); empty for the pressure stage.
     pub temperatures: Vec<(f64, Vec<f64>)>,
+    /// The stage's heat conduction outside the bounds of the maximum
+    /// principle, at any time step (None: inside; the pressure stage).
+    pub bound_violation: Option<crate::driver::BoundViolation>,
 }
 
 /// A finished multilayer run.
@@ -448,7 +451,8 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         reference.extend_from_slice(&own[reference.len()..]);
         let mut outputs = Vec::new();
         let heat_clock = std::time::Instant::now();
-        let summary = tecon_thermal::run_transient(
+        let mut extremes = None;
+        let summary = tecon_thermal::run_transient_observed(
             &system,
             &schedule(end)?,
             ThetaScheme::crank_nicolson(),
@@ -460,8 +464,18 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
                     s.balance.relative_residual(),
                 ))
             },
+            |time, t| crate::driver::StepExtremes::observe(&mut extremes, time, t),
+            || true,
         )
         .map_err(|e| format!("stage {k}: heat conduction: {e}"))?;
+        // the maximum principle, at every time step (as the monolayer's)
+        let at_outputs: Vec<(f64, &[f64])> = times
+            .iter()
+            .zip(&outputs)
+            .map(|(&t, o)| (t, o.0.as_slice()))
+            .collect();
+        let bound_violation =
+            crate::driver::bound_violation_of(&thermal, &sm, true, &at_outputs, extremes);
         let heat_seconds = heat_clock.elapsed().as_secs_f64();
         let contact_clock = std::time::Instant::now();
         // contact with layer k activated on the deformed assembly
@@ -532,6 +546,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
                 .zip(&outputs)
                 .map(|(&t, o)| (t, o.0.clone()))
                 .collect(),
+            bound_violation,
         });
     }
     if let Some(p) = o.pressure {
@@ -585,6 +600,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             seconds: (0.0, contact_clock.elapsed().as_secs_f64()),
             condensed_dofs: solver.condensed_dofs(),
             temperatures: Vec::new(),
+            bound_violation: None,
         });
     }
     Ok(MultilayerRun {

@@ -603,6 +603,10 @@ pub fn stage_summary(run: &MultilayerRun, stage: usize) -> Value {
         "newton_iterations": st.newton_iterations,
         "thermal_steps": st.thermal_steps,
         "max_heat_balance_residual": st.heat_balance,
+        // K outside the bounds of the maximum principle, at any time step
+        // and at the output states (0: inside)
+        "bound_violation": st.bound_violation.as_ref().map_or(0.0, |b| b.excursion),
+        "bound_violation_at_outputs": st.bound_violation.as_ref().map_or(0.0, |b| b.output_excursion),
         "end_time_s": st.state.time,
         "layer_surface_temperature": temperatures,
     })
@@ -629,6 +633,18 @@ pub fn seam_note(run: &MultilayerRun) -> Option<String> {
             3 * order
         )
     })
+}
+
+/// The run's notes: the seams' resolution, and every stage whose heat
+/// conduction left the bounds of the maximum principle.
+pub fn notes(run: &MultilayerRun) -> Vec<String> {
+    let mut v: Vec<String> = seam_note(run).into_iter().collect();
+    for (i, st) in run.stages.iter().enumerate() {
+        if let Some(b) = &st.bound_violation {
+            v.push(format!("stage {}: {}", i + 1, b.note()));
+        }
+    }
+    v
 }
 
 /// The summary of the whole run.
@@ -665,7 +681,7 @@ pub fn summary(run: &MultilayerRun) -> Value {
         },
         "stages": (1..=run.stages.len()).map(|k| stage_summary(run, k)).collect::<Vec<_>>(),
         "max_relative_error_ring_means": worst,
-        "notes": seam_note(run).into_iter().collect::<Vec<_>>(),
+        "notes": notes(run),
     })
 }
 
@@ -934,7 +950,7 @@ pub fn report(run: &MultilayerRun) -> String {
         },
         run.seconds
     );
-    if let Some(n) = seam_note(run) {
+    for n in notes(run) {
         s += &format!("note: {n}\n");
     }
     for (i, st) in run.stages.iter().enumerate() {

@@ -206,6 +206,29 @@ fn mesh_and_order_options_of_the_layers_run() {
             .unwrap()
             .contains("seams are not resolved")
     );
+    // the default mesh's first time steps also leave the temperature bounds
+    // (one layer: 14.4 K above the weld's 1132 °C at t = 0.02 s; the output
+    // at 72 000 s is inside):
+    // a note, and the stage summary's numbers; the order-2 level-1 mesh
+    // above stays inside
+    let n = s["notes"][1].as_str().unwrap();
+    assert!(
+        n.starts_with("stage 1: temperature outside its physical bounds")
+            && n.contains("at t = 0.02 s")
+            && n.contains("between the output times"),
+        "{n}"
+    );
+    let stage: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("stage1_summary.json")).unwrap())
+            .unwrap();
+    let b = stage["bound_violation"].as_f64().unwrap();
+    assert!(b > 10.0 && b < 20.0, "{b}");
+    assert_eq!(stage["bound_violation_at_outputs"].as_f64(), Some(0.0));
+    let stage: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("ok").join("stage1_summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(stage["bound_violation"].as_f64(), Some(0.0));
     for (args, what) in [
         (vec!["--mesh", "paper"], "--mesh paper with --layers"),
         (vec!["--mesh", "g1"], "gL, paper"),
