@@ -624,27 +624,13 @@ pub fn stage_thermal_load(
     element_mean: &[f64],
     reference: &[f64],
 ) -> Vec<f64> {
-    match mesh.triangles6() {
-        Some(t6) => t6
-            .iter()
-            .enumerate()
-            .flat_map(|(e, t)| {
-                t.map(|a| match reference.get(e) {
-                    Some(r) if e < element_mean.len() => nodal[a] - r,
-                    _ => 0.0,
-                })
-            })
-            .collect(),
-        None => {
-            let mut d: Vec<f64> = element_mean
-                .iter()
-                .zip(reference)
-                .map(|(t, r)| t - r)
-                .collect();
-            d.resize(mesh.n_triangles(), 0.0);
-            d
-        }
-    }
+    // the monolayer's thermal load on the stage's elements (the first
+    // ones), then zeros for the layers not yet wrapped
+    let stage = &reference[..reference.len().min(element_mean.len())];
+    let mut d = crate::driver::thermal_load(mesh, nodal, element_mean, stage);
+    let per = if mesh.triangles6().is_some() { 6 } else { 1 };
+    d.resize(per * mesh.n_triangles(), 0.0);
+    d
 }
 
 /// Whether region `name` belongs to ring `ring` (0 = core; k = layer k and weld k).
