@@ -429,18 +429,19 @@ impl StaticSolver<'_> {
                         // short (see `StaticSolver::predicted_step`)
                         let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
                         let end = ray.at(&du, step);
-                        let status = self.statuses(&end, committed);
-                        let all_open = predicted
+                        let open_at_end: Vec<bool> = self
+                            .statuses(&end, committed)
                             .iter()
-                            .all(|&i| status[i].0.0 == ContactStatus::Open);
-                        Some((du, s_du, step, all_open))
+                            .map(|s| s.0.0 == ContactStatus::Open)
+                            .collect();
+                        Some((du, s_du, step, open_at_end))
                     }
                     _ => None,
                 }
             };
             let (du, s_du, step) = match trial {
-                Some((du, s_du, step, all_open)) => {
-                    t.kept_prediction(predicted.len(), all_open);
+                Some((du, s_du, step, open_at_end)) => {
+                    t.kept_prediction(predicted.len(), &open_at_end);
                     (du, s_du, step)
                 }
                 None => {

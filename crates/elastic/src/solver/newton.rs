@@ -84,8 +84,8 @@ impl StaticSolver<'_> {
                 self.predicted_step(f_ext, committed, &u, &ku, &r, &predicted, accept)?
             };
             let (du, du_rotated, known_step) = match trial {
-                Some((du, du_rotated, step, all_open)) => {
-                    t.kept_prediction(predicted.len(), all_open);
+                Some((du, du_rotated, step, open_at_end)) => {
+                    t.kept_prediction(predicted.len(), &open_at_end);
                     (du, du_rotated, Some(step))
                 }
                 None => {
@@ -212,7 +212,7 @@ impl StaticSolver<'_> {
     /// the exact energy (`r` is the exact residual at `u`, rotated frame;
     /// `accept` as for [`StaticSolver::solve`]), with the exact line-search
     /// step along it (which lowers the energy, however short):
-    /// `(du, du_rotated, step, every predicted point open at u + step du)`;
+    /// `(du, du_rotated, step, which points are open at u + step du)`;
     /// `None` otherwise. A short step is kept too: rejecting it (as below
     /// half a step, before) cost a second solve for the exact Newton step,
     /// one iteration in five of the first pass on `t1e5`.
@@ -226,7 +226,7 @@ impl StaticSolver<'_> {
         r: &[f64],
         predicted: &[usize],
         accept: f64,
-    ) -> Result<Option<(Vec<f64>, Vec<f64>, f64, bool)>, ElasticError> {
+    ) -> Result<Option<(Vec<f64>, Vec<f64>, f64, Vec<bool>)>, ElasticError> {
         let forced = self.forced_open(committed, predicted);
         let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
         let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
@@ -249,9 +249,10 @@ impl StaticSolver<'_> {
         let step = self.energy_line_search(f_ext, committed, u, ku, &du, &du_rotated, r)?;
         let end: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
         let status = self.statuses(&end, committed);
-        let all_open = predicted
+        let open_at_end = status
             .iter()
-            .all(|&i| status[i].0.0 == ContactStatus::Open);
-        Ok(Some((du, du_rotated, step, all_open)))
+            .map(|s| s.0.0 == ContactStatus::Open)
+            .collect();
+        Ok(Some((du, du_rotated, step, open_at_end)))
     }
 }

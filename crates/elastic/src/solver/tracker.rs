@@ -29,9 +29,12 @@ pub(super) struct PassTracker {
     /// force norm seen so far (the internal force alone can vanish, e.g.
     /// when bodies separate and move rigidly).
     pub reference: f64,
-    /// Front prediction (see `front`): element hops ahead of the points
-    /// that just opened, doubled after every kept prediction.
-    reach: usize,
+    /// Front prediction (see `front`): the fronts of the last prediction
+    /// (their predicted points and reach), and the reach each flat point
+    /// carries into the next one (0: none), doubled where a front's
+    /// predicted points all opened, halved where they did not.
+    fronts: Vec<(Vec<usize>, usize)>,
+    carry: Vec<usize>,
     /// Points whose stick/slip status oscillated in this pass: their
     /// slipping tangent is the secant one from then on.
     pub damped: Vec<bool>,
@@ -53,7 +56,8 @@ impl PassTracker {
             ping_pong: 0,
             short_steps: 0,
             reference: f_ext_norm.max(f64::MIN_POSITIVE),
-            reach: 1,
+            fronts: Vec::new(),
+            carry: Vec::new(),
             damped: Vec::new(),
             damping: false,
             pass,
@@ -168,33 +172,51 @@ impl PassTracker {
         (self.damping && self.damped.iter().any(|&d| d)).then_some(&self.damped[..])
     }
 
-    /// Points predicted open ahead of the front (see `front`).
+    /// Points predicted open ahead of the fronts (see `front`).
     pub fn predicted_openings(
-        &self,
+        &mut self,
         neighbours: &[Vec<Vec<usize>>],
         per_element: &[usize],
         status: &[PointStatus],
         enabled: bool,
     ) -> Vec<usize> {
-        match &self.prev {
+        let carry = std::mem::take(&mut self.carry);
+        self.fronts = match &self.prev {
             Some(p) if enabled => {
                 let before: Vec<PointStatus> = p.iter().map(|s| s.0).collect();
-                front::predicted_openings(neighbours, per_element, &before, status, self.reach)
+                front::predicted_openings(neighbours, per_element, &before, status, &carry)
             }
             _ => Vec::new(),
+        };
+        if self.fronts.is_empty() {
+            // no prediction made: the reach waits for the next opening
+            self.carry = carry;
         }
+        let mut all: Vec<usize> = self
+            .fronts
+            .iter()
+            .flat_map(|f| f.0.iter().copied())
+            .collect();
+        all.sort_unstable();
+        all
     }
 
-    /// A predicted step of `n` points was kept; `all_open`: every
-    /// predicted point was open at its end.
-    pub fn kept_prediction(&mut self, n: usize, all_open: bool) {
-        // a front that was not reached by all predicted points is near:
-        // look less far ahead next time
-        self.reach = if all_open {
-            2 * self.reach
-        } else {
-            (self.reach / 2).max(1)
-        };
+    /// A predicted step of `n` points was kept; `open_at_end`: which flat
+    /// points are open at its end. A front whose predicted points all
+    /// opened looks twice as far ahead next time; one that was not reached
+    /// by all of them is near: half as far.
+    pub fn kept_prediction(&mut self, n: usize, open_at_end: &[bool]) {
+        self.carry = vec![0; open_at_end.len()];
+        for (points, reach) in std::mem::take(&mut self.fronts) {
+            let next = if points.iter().all(|&i| open_at_end[i]) {
+                2 * reach
+            } else {
+                (reach / 2).max(1)
+            };
+            for i in points {
+                self.carry[i] = self.carry[i].max(next);
+            }
+        }
         if let Some(h) = self.history.last_mut() {
             h.predicted = n;
         }
@@ -204,7 +226,9 @@ impl PassTracker {
     /// solve, so it counts as an iteration. True if that used up the
     /// iterations of the pass.
     pub fn rejected_prediction(&mut self, n: usize, max_iterations: usize) -> bool {
-        self.reach = 1;
+        // every front starts again from reach 1
+        self.fronts.clear();
+        self.carry.clear();
         if let Some(mut again) = self.history.last().cloned() {
             if let Some(h) = self.history.last_mut() {
                 h.predicted = n;
