@@ -413,12 +413,14 @@ impl StaticSolver<'_> {
                 rb0: &rb0,
                 r: &r_g,
             };
-            let trial = if predicted.is_empty() {
+            let sticks = t.reversed_points(&obs.status);
+            let trial = if predicted.is_empty() && sticks.is_empty() {
                 None
             } else {
                 // the Newton step of the branch where the predicted points
-                // are open: its tangent and its residual
-                let forced = self.forced_open(committed, &predicted);
+                // are open (and the reversed ones stick): its tangent and
+                // its residual
+                let forced = self.forced_branch(committed, &predicted, &sticks, t.damped_points());
                 let (fcp, gp) = self.gamma_force(cx, &uf, &forced, &mut fc, true)?;
                 let gp = gp.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
                 let mut du = residual(&s_delta, &fcp, &cx.fixed);

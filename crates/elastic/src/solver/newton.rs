@@ -78,10 +78,23 @@ impl StaticSolver<'_> {
                 &obs.status,
                 symmetric && opts.front_prediction,
             );
-            let trial = if predicted.is_empty() {
+            let sticks = if symmetric {
+                t.reversed_points(&obs.status)
+            } else {
+                Vec::new()
+            };
+            let trial = if predicted.is_empty() && sticks.is_empty() {
                 None
             } else {
-                self.predicted_step(f_ext, committed, &u, &ku, &r, &predicted, accept)?
+                self.predicted_step(
+                    f_ext,
+                    committed,
+                    &u,
+                    &ku,
+                    &r,
+                    (&predicted, &sticks, t.damped_points()),
+                    accept,
+                )?
             };
             let (du, du_rotated, known_step) = match trial {
                 Some((du, du_rotated, step, open_at_end)) => {
@@ -224,10 +237,10 @@ impl StaticSolver<'_> {
         u: &[f64],
         ku: &[f64],
         r: &[f64],
-        predicted: &[usize],
+        (predicted, sticks, damped): (&[usize], &[usize], Option<&[bool]>),
         accept: f64,
     ) -> Result<Option<(Vec<f64>, Vec<f64>, f64, Vec<bool>)>, ElasticError> {
-        let forced = self.forced_open(committed, predicted);
+        let forced = self.forced_branch(committed, predicted, sticks, damped);
         let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
         let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
         self.rotations.rotate_matrix(&mut kt);

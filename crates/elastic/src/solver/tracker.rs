@@ -43,6 +43,8 @@ pub(super) struct PassTracker {
     /// repeat keeps the exact path, bit for bit), and the ping-pong guard
     /// then counts afresh, once.
     damping: bool,
+    /// Points already tried as sticking in this pass.
+    stick_tried: Vec<bool>,
     pass: usize,
 }
 
@@ -60,6 +62,7 @@ impl PassTracker {
             carry: Vec::new(),
             damped: Vec::new(),
             damping: false,
+            stick_tried: Vec::new(),
             pass,
         }
     }
@@ -201,6 +204,30 @@ impl PassTracker {
         all
     }
 
+    /// Closed points whose slip direction reversed in the last step, each
+    /// at most once per pass: they are tried as sticking in the next step
+    /// (see `front`). A point tried once that reverses again is left to the
+    /// exact step and the secant damping.
+    pub fn reversed_points(&mut self, status: &[PointStatus]) -> Vec<usize> {
+        let Some(p) = &self.prev else {
+            return Vec::new();
+        };
+        self.stick_tried.resize(status.len(), false);
+        let out: Vec<usize> = status
+            .iter()
+            .zip(p)
+            .enumerate()
+            .filter(|(i, (s, q))| {
+                s.0 == ContactStatus::Slip && s.1 * q.0.1 < 0 && !self.stick_tried[*i]
+            })
+            .map(|(i, _)| i)
+            .collect();
+        for &i in &out {
+            self.stick_tried[i] = true;
+        }
+        out
+    }
+
     /// A predicted step of `n` points was kept; `open_at_end`: which flat
     /// points are open at its end. A front whose predicted points all
     /// opened looks twice as far ahead next time; one that was not reached
@@ -283,5 +310,41 @@ pub(super) fn failure(reason: impl Into<String>, history: Vec<IterationRecord>) 
         reason: reason.into(),
         attempts: Vec::new(),
         history,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Observes `status` (every point carrying traction 1) and takes a
+    /// full step.
+    fn iterate(t: &mut PassTracker, status: &[PointStatus]) {
+        let opts = SolverOptions::default();
+        let st = status.iter().map(|&s| (s, 1.0)).collect();
+        t.observe(st, 1.0, 0.0, 1e-10, &opts).unwrap();
+        t.stepped(1.0, 1.0).unwrap();
+    }
+
+    #[test]
+    fn reversed_slips_are_tried_as_sticking_once_per_pass() {
+        let plus = (ContactStatus::Slip, 1);
+        let minus = (ContactStatus::Slip, -1);
+        let stick = (ContactStatus::Stick, 0);
+        let open = (ContactStatus::Open, 0);
+        let mut t = PassTracker::new(1.0, 1);
+        // no previous iterate: nothing reversed
+        assert!(t.reversed_points(&[plus, plus, stick, open]).is_empty());
+        iterate(&mut t, &[plus, plus, stick, open]);
+        // point 0 reversed; point 1 kept its direction; points 2, 3 are no
+        // slipping points
+        assert_eq!(t.reversed_points(&[minus, plus, plus, open]), vec![0]);
+        iterate(&mut t, &[minus, plus, plus, open]);
+        // point 0 reverses again: tried once already; point 1 now
+        assert_eq!(t.reversed_points(&[plus, minus, plus, open]), vec![1]);
+        // a new pass tries every point again
+        let mut t = PassTracker::new(1.0, 2);
+        iterate(&mut t, &[minus, plus, plus, open]);
+        assert_eq!(t.reversed_points(&[plus, minus, plus, open]), vec![0, 1]);
     }
 }
