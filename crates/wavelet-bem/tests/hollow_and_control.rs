@@ -1004,3 +1004,55 @@ fn sections_far_from_the_origin_keep_their_estimates() {
     let j_err = (c.solution.torsional_rigidity - exact).abs() / exact;
     assert!(j_err <= c.j_error);
 }
+
+/// Rungs below the geometry's starting n0 (the ladder starts at n0/4) are
+/// below the resolution it asks for; a ratio of differences faster than
+/// the rate floor that comes from them is pre-asymptotic and no longer shrinks the estimate to the
+/// floor's. Before: the channel 0.5 × 1 with walls of 0.1 stopped at
+/// n = 512 with J 5.6e-9 off and an estimate of 2.2e-9 (differences 2.8e-3
+/// and 2.8e-7, a ratio of 2^−13); a star-shaped 40-gon stopped at n = 2048
+/// with J 2.9e-10 off and 3.6e-11 reported (the next ratio was 2^−3.9).
+#[test]
+fn pre_asymptotic_first_rungs_do_not_shrink_the_estimates() {
+    let channel = sections::polygon(&[
+        [0.0, 0.0],
+        [0.5, 0.0],
+        [0.5, 0.1],
+        [0.1, 0.1],
+        [0.1, 0.9],
+        [0.5, 0.9],
+        [0.5, 1.0],
+        [0.0, 1.0],
+    ])
+    .unwrap();
+    // a star-shaped 40-gon, radii in [0.7, 1] from a fixed sequence
+    let mut s: u64 = 4;
+    let mut next = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let star: Vec<V2> = (0..40)
+        .map(|k| {
+            let th = 2.0 * PI * (k as f64 + 0.3 * next()) / 40.0;
+            let r = 0.7 + 0.3 * next();
+            [r * th.cos(), r * th.sin()]
+        })
+        .collect();
+    let star = sections::polygon(&star).unwrap();
+    // references: n = 2048 (the channel's J moves by 1.3e-13 from 2048 to
+    // 4096) and 4096 (the star's by 6.6e-13 from 4096 to 8192)
+    for (sec, n_ref, tol) in [(&channel, 2048, 1e-8), (&star, 4096, 1e-6)] {
+        let reference = solve(sec, &opts_n(n_ref)).unwrap().torsional_rigidity;
+        let c = solve_to_tolerance(sec, &Options::default(), tol, 4096).unwrap();
+        assert!(c.converged);
+        let err = (c.solution.torsional_rigidity - reference).abs() / reference;
+        assert!(
+            err <= c.j_error,
+            "n = {}: J {err:e} off, estimate {:e}",
+            c.solution.options.n,
+            c.j_error
+        );
+    }
+}
