@@ -339,7 +339,20 @@ const EXTRAPOLATE_BELOW: f64 = 0.25;
 /// [`round_off`]): a difference at that level may be round-off, and then
 /// it is the plain difference. Every estimate is at least the round-off
 /// scale of a dense solve, which no difference of rungs can see.
-fn estimate(d: &Differences, floor: Option<f64>, round_off: RoundOff) -> f64 {
+///
+/// `pre_asymptotic`: the oldest rung lies below the geometry's starting n
+/// n0 (the ladder starts at n0/4), where walls and corners are not yet
+/// resolved. A ratio faster than the floor from it says only that its
+/// error has collapsed, not how fast the error goes on falling, and the
+/// ratio assumed is then √floor (2^−4; used for J only: τ_max, the shear
+/// centre and Γ assume the pointwise floor 2^−7, which bounded every one
+/// of them in the sweep of `examples/estimate_sweep.rs`). Measured with the
+/// floor:
+/// the channel 0.5 × 1 with walls of 0.1 (n0 = 256) had J differences
+/// 2.8e-3 and 2.8e-7 (128 → 256 → 512, ratio 2^−13) and J at 512 5.6e-9
+/// off, reported 2.2e-9; a star-shaped 40-gon (n0 = 2048) ratio 2^−9.3,
+/// J at 2048 2.9e-10 off (the next ratio was 2^−3.9), reported 3.6e-11.
+fn estimate(d: &Differences, floor: Option<f64>, round_off: RoundOff, pre_asymptotic: bool) -> f64 {
     // a quantity that is not finite (NaN: over- or underflow at an extreme
     // scale) has no error estimate: never let `max` turn NaN into round-off
     if !d.last.is_finite() {
@@ -347,7 +360,12 @@ fn estimate(d: &Differences, floor: Option<f64>, round_off: RoundOff) -> f64 {
     }
     let e = match (d.before, floor) {
         (Some(before), Some(f)) if before > 0.0 && d.last <= EXTRAPOLATE_BELOW * before => {
-            let rho = (d.last / before).max(f);
+            let observed = d.last / before;
+            let rho = if pre_asymptotic && observed < f {
+                f.sqrt()
+            } else {
+                observed.max(f)
+            };
             let noise = DIFFERENCE_NOISE.max(round_off.noise);
             (2.0 * d.last * rho / (1.0 - rho)).max(d.last.min(noise))
         }
@@ -387,19 +405,33 @@ struct RoundOff {
 /// while its rungs agree to 8.6e-14, J of the 1 × 0.02 ellipse at n = 2048
 /// 1.6e-12 off while they agree to 5.5e-13 (N ε: 4.5e-13; the factor 20
 /// gives 9e-12).
+///
+/// A section far from the origin carries its coordinates with the absolute
+/// round-off ε|x₀|, a relative error ε|x₀|/R of its size R = P_outer/2π, and
+/// the kernel sees it at the node spacing R/n: the scale adds
+/// ε (|x₀|/R) n/8 (n per curve). Measured (the tube 1/0.6 at (10⁵, 0),
+/// ε|x₀|/R = 2.2e-11): τ_max 2.1e-10 off at n = 256 and 2.9e-9 at 4096
+/// (about ε (|x₀|/R) n/30), J 1.2e-12, the shear centre 1.8e-11, while the
+/// rungs agreed to 2e-13 and the scale was 2.3e-13; the tube at
+/// (10³, −10³): τ_max 1.1e-12 off, reported 3.2e-13. Near the origin
+/// (|x₀| ≲ R) the term is below N ε and changes nothing.
 fn round_off(section: &Section, unknowns: usize) -> RoundOff {
     let p = section.total_perimeter();
     let slenderness = (p * p / (4.0 * std::f64::consts::PI * section.area)).max(1.0);
+    let n = unknowns / section.curves().len().max(1);
+    let c = section.centroid;
+    let size = section.perimeter() / (2.0 * std::f64::consts::PI);
+    let offset = f64::EPSILON * c[0].hypot(c[1]) / size * n as f64 / 8.0;
     let scale = unknowns as f64 * f64::EPSILON;
     if section.holes.is_empty() {
-        let scale = scale * slenderness;
+        let scale = scale * slenderness + offset;
         RoundOff {
             scale,
             noise: NOISE_OVER_ROUND_OFF * scale,
         }
     } else {
         // the square root is already 40-300 × the measured spread of boxes
-        let scale = scale * slenderness.sqrt();
+        let scale = scale * slenderness.sqrt() + offset;
         RoundOff {
             scale,
             noise: scale,
@@ -491,17 +523,21 @@ fn jt_estimates(
     values: &[(f64, Option<f64>)],
     floor: Option<f64>,
     round_off: RoundOff,
+    pre_asymptotic: bool,
 ) -> (f64, Option<f64>) {
     let j = diffs(values, |a, b| Some(rel(a.0, b.0)));
     let tau = diffs(values, |a, b| Some(rel(a.1?, b.1?)));
     (
-        j.map_or(0.0, |d| estimate(&d, floor, round_off)),
-        tau.map(|d| estimate(&d, pointwise_floor(floor), round_off)),
+        j.map_or(0.0, |d| estimate(&d, floor, round_off, pre_asymptotic)),
+        // τ_max, like the shear centre and Γ, already assumes the slower
+        // pointwise floor, which held on every section of the sweep
+        tau.map(|d| estimate(&d, pointwise_floor(floor), round_off, false)),
     )
 }
 
 /// The controlled result from the finest rung `fine`, its estimates from
-/// `coarse` and, if given, the rung before it (`older`).
+/// `coarse` and, if given, the rung before it (`older`); an `older` rung
+/// below `resolved_from` is pre-asymptotic (see [`estimate`]).
 fn finish(
     older: Option<Solved>,
     coarse: Solved,
@@ -509,7 +545,11 @@ fn finish(
     tol: f64,
     levels: Vec<Level>,
     reached_cap: bool,
+    resolved_from: usize,
 ) -> Controlled {
+    let pre_asymptotic = older
+        .as_ref()
+        .is_some_and(|o| o.0.options.n < resolved_from);
     let refs: Vec<&Solved> = older.iter().chain([&coarse, &fine]).collect();
     let estimated_from = refs.iter().map(|r| r.0.options.n).collect();
     let floor = rate_floor(&fine.0.options);
@@ -518,7 +558,7 @@ fn finish(
         .map(|r| (r.0.torsional_rigidity, r.1.and_then(|m| m.controlled())))
         .collect();
     let round_off = round_off(&fine.0.section, fine.0.options.n * fine.0.curve_count());
-    let (j_error, tau_error) = jt_estimates(&jt, floor, round_off);
+    let (j_error, tau_error) = jt_estimates(&jt, floor, round_off, pre_asymptotic);
     let (flat_j, flat_tau) = flat_vertex_floors(&fine.0.section, fine.0.options.n);
     let j_error = j_error.max(flat_j);
     let tau_error = tau_error.map(|e| e.max(flat_tau));
@@ -530,12 +570,16 @@ fn finish(
         let (x, y) = (a.2.shear_centre, b.2.shear_centre);
         Some((x[0] - y[0]).hypot(x[1] - y[1]) / rg)
     })
-    .map_or(0.0, |d| estimate(&d, pointwise_floor(floor), round_off))
+    .map_or(0.0, |d| {
+        estimate(&d, pointwise_floor(floor), round_off, false)
+    })
     .max(flat_j);
     let warping_error = diffs(&refs, |a, b| {
         Some((a.2.warping_constant - b.2.warping_constant).abs() / g_scale)
     })
-    .map_or(0.0, |d| estimate(&d, pointwise_floor(floor), round_off))
+    .map_or(0.0, |d| {
+        estimate(&d, pointwise_floor(floor), round_off, false)
+    })
     .max(flat_j);
     // the τ away from the singular points is reported with its estimate,
     // and counts only when followed (see `followed`)
@@ -641,7 +685,7 @@ pub fn solve_with_estimate(
     }
     let coarse = solve_level(section, &Options { n: half, ..*opts })?;
     let levels = vec![level(&coarse), level(&fine)];
-    Ok(finish(None, coarse, fine, tol, levels, false))
+    Ok(finish(None, coarse, fine, tol, levels, false, 0))
 }
 
 /// Refines from [`starting_n`] / 4 (or `opts.n` if larger) by doubling until,
@@ -732,7 +776,7 @@ pub fn solve_to_tolerance(
             let fine = cur.solved();
             let last = levels.len() - 1;
             levels[last] = level(&fine);
-            return Ok(with_start(finish(None, coarse, fine, tol, levels, true)));
+            return Ok(with_start(finish(None, coarse, fine, tol, levels, true, 0)));
         }
         ladder.push(cur);
         if ladder.len() > 3 {
@@ -745,7 +789,10 @@ pub fn solve_to_tolerance(
                 .map(|r| (r.sol.torsional_rigidity, r.tau()))
                 .collect();
             let round_off = round_off(section, n * section.curves().len());
-            let (ej_rungs, etau) = jt_estimates(&jt, floor, round_off);
+            // rungs below n0 are below the resolution the geometry asks
+            // for: a fast ratio from them is pre-asymptotic
+            let pre_asymptotic = ladder.len() == 3 && ladder[0].sol.options.n < accept_from;
+            let (ej_rungs, etau) = jt_estimates(&jt, floor, round_off, pre_asymptotic);
             let (flat_j, flat_tau) = flat_vertex_floors(section, n);
             let ej = ej_rungs.max(flat_j);
             let etau = etau.map(|e| e.max(flat_tau));
@@ -768,7 +815,15 @@ pub fn solve_to_tolerance(
                 let fine = ladder[used - 1].solved();
                 let coarse = ladder[used - 2].solved();
                 let older = (used == 3).then(|| ladder[0].solved());
-                let c = finish(older, coarse, fine, tol, levels.clone(), at_cap);
+                let c = finish(
+                    older,
+                    coarse,
+                    fine,
+                    tol,
+                    levels.clone(),
+                    at_cap,
+                    accept_from,
+                );
                 // a shear centre or Γ that is not finite at an extreme
                 // scale stays so at every n: flagged now, not after the
                 // largest n (at a plain scale a finer n may resolve it)

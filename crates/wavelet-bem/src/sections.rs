@@ -454,10 +454,12 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
                 }
             };
             let (tf, tw) = (one("tf")?, one("tw")?);
+            // name the field that was given: `t` when all walls are one
+            let given = |key: &'static str| if t.is_some() { "t" } else { key };
             if 2.0 * tw >= w {
                 return Err(bad(
                     kind,
-                    "tw",
+                    given("tw"),
                     &tw.to_string(),
                     "the webs fill the width (2 tw ≥ w)",
                 ));
@@ -465,7 +467,7 @@ pub fn parse_spec(spec: &str) -> Result<Section, SpecError> {
             if 2.0 * tf >= h {
                 return Err(bad(
                     kind,
-                    "tf",
+                    given("tf"),
                     &tf.to_string(),
                     "the flanges fill the height (2 tf ≥ h)",
                 ));

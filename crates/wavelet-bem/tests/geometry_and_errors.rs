@@ -205,7 +205,7 @@ fn spec_strings_parse_or_name_the_bad_field() {
     assert!(msg("sections/box.toml").contains("no such file"));
     assert!(msg("rectangle:w=1,w=2").contains("given twice"));
     assert!(msg("tube:ro=1,ri=1").contains("`ri`"));
-    assert!(msg("box:w=1,h=1,t=0.6").contains("`tw`"));
+    assert!(msg("box:w=1,h=1,t=0.6").contains("field `t`"));
     assert!(msg("box:w=1,h=1,t=0.1,tf=0.2").contains("either t or tf and tw"));
 }
 
@@ -314,6 +314,20 @@ fn geometry_errors_name_the_file_and_the_hole() {
         m.starts_with(
             "box: bad value `0.4999999999999` for field `tw`: the inside is not a valid section"
         ),
+        "{m}"
+    );
+    // walls that fill the box name the field given: `t` when all walls
+    // are one (it said `tw`, a field the user had not written)
+    let m = parse_spec("box:w=1,h=1,t=0.5").unwrap_err().to_string();
+    assert!(
+        m.starts_with("box: bad value `0.5` for field `t`: the webs fill the width"),
+        "{m}"
+    );
+    let m = parse_spec("box:w=2,h=1,tf=0.5,tw=0.1")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        m.starts_with("box: bad value `0.5` for field `tf`: the flanges fill the height"),
         "{m}"
     );
     // the outside's errors stay those of a rectangle

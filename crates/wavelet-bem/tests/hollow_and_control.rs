@@ -894,3 +894,165 @@ fn higher_orders_keep_the_measured_rate_floor() {
         r.j_error
     );
 }
+
+/// Moving, turning or scaling a section with holes keeps its holes: they
+/// were dropped, and a tube moved by (2, −3) came back as the solid disc
+/// (J of the tube 1/0.9 66 % off, reported converged with an estimate of
+/// 6e-14). Exact: J = π(ro⁴ − ri⁴)/2 · λ⁴, τ_max = ro λ, Γ = 0, the shear
+/// centre at the moved centre; the homothetic elliptical tube keeps the
+/// solid ellipse's field (J_outer (1 − k⁴)).
+#[test]
+fn moved_turned_and_scaled_sections_keep_their_holes() {
+    let tube = sections::tube(1.0, 0.9).unwrap();
+    let lambda = 0.02;
+    let d = [2.0, -3.0];
+    let moved = tube
+        .rotated(0.3)
+        .unwrap()
+        .scaled(lambda)
+        .unwrap()
+        .translated(d)
+        .unwrap();
+    assert_eq!(moved.holes.len(), 1);
+    assert!((moved.area - tube.area * lambda * lambda).abs() < 1e-14 * tube.area);
+    let off = (moved.centroid[0] - d[0]).hypot(moved.centroid[1] - d[1]);
+    // Green's-theorem moments far from the origin: round-off about 1e-12 here
+    assert!(off < 1e-9 * lambda, "centroid {:?}", moved.centroid);
+    let c = solve_to_tolerance(&moved, &Options::default(), 1e-8, 4096).unwrap();
+    let exact = PI * (1.0 - 0.9f64.powi(4)) / 2.0 * lambda.powi(4);
+    let err = (c.solution.torsional_rigidity - exact).abs() / exact;
+    assert!(c.converged);
+    assert!(
+        err <= c.j_error,
+        "J error {err:e}, estimate {:e}",
+        c.j_error
+    );
+    let tau = c.max_shear.value.unwrap();
+    assert!((tau - lambda).abs() / lambda <= c.tau_error.unwrap().max(1e-13));
+    let sc = c.warping.shear_centre;
+    assert!((sc[0] - d[0]).hypot(sc[1] - d[1]) < 1e-12);
+    // elliptical tube with a homothetic hole, moved: J = J_outer (1 − k⁴)
+    let (a, b, k) = (1.0, 0.5, 0.7);
+    let et = geometry::Section::with_holes(
+        sections::ellipse(a, b).unwrap(),
+        vec![sections::ellipse(k * a, k * b).unwrap()],
+    )
+    .unwrap()
+    .translated([5.0, 1.0])
+    .unwrap();
+    assert_eq!(et.holes.len(), 1);
+    let e = analytical::Ellipse { a, b };
+    let c = solve_to_tolerance(&et, &Options::default(), 1e-8, 4096).unwrap();
+    let exact = e.rigidity() * (1.0 - k.powi(4));
+    let err = (c.solution.torsional_rigidity - exact).abs() / exact;
+    assert!(
+        c.converged && err <= c.j_error,
+        "J error {err:e}, estimate {:e}",
+        c.j_error
+    );
+    // τ_max is the solid ellipse's, on the outer boundary
+    let tau_err = (c.max_shear.value.unwrap() - e.max_shear()).abs() / e.max_shear();
+    assert!(tau_err <= c.tau_error.unwrap(), "τ error {tau_err:e}");
+}
+
+/// A section far from the origin: its centroid comes from moments about a
+/// point of its own boundary (about the origin, ∮ x²/2 dy of the unit
+/// triangle at (10⁴, 10⁴) cancelled 10⁴-fold and the centroid, hence the
+/// shear centre, was 2.4e-8 of its size off while the estimate said
+/// 3.6e-9), and the round-off scale of the estimates includes the
+/// coordinates' own ε|x₀| (the tube 1/0.6 at (10³, −10³): τ_max 1.1e-12
+/// off, reported 3.2e-13).
+#[test]
+fn sections_far_from_the_origin_keep_their_estimates() {
+    use tecon_wavelet_bem::analytical::EquilateralTriangle;
+    let d = [1e4, 1e4];
+    let tri = sections::triangle(1.0).unwrap();
+    let far = tri.translated(d).unwrap();
+    let shift = [
+        far.centroid[0] - tri.centroid[0],
+        far.centroid[1] - tri.centroid[1],
+    ];
+    let off = (shift[0] - d[0]).hypot(shift[1] - d[1]);
+    assert!(off < 1e-11, "centroid moved by {shift:?}, not {d:?}");
+    let c = solve_to_tolerance(&far, &Options::default(), 1e-6, 4096).unwrap();
+    assert!(c.converged);
+    let rg = (far.polar_moment() / far.area).sqrt();
+    let exact_sc = [tri.centroid[0] + d[0], tri.centroid[1] + d[1]];
+    let sc = c.warping.shear_centre;
+    let sc_err = (sc[0] - exact_sc[0]).hypot(sc[1] - exact_sc[1]) / rg;
+    assert!(
+        sc_err <= c.shear_centre_error,
+        "shear centre {sc_err:e} off, estimate {:e}",
+        c.shear_centre_error
+    );
+    let t = EquilateralTriangle { a: 1.0 };
+    let j_err = (c.solution.torsional_rigidity - t.rigidity()).abs() / t.rigidity();
+    assert!(j_err <= c.j_error, "J {j_err:e} vs {:e}", c.j_error);
+    let tube = sections::tube(1.0, 0.6)
+        .unwrap()
+        .translated([1e3, -1e3])
+        .unwrap();
+    let c = solve_to_tolerance(&tube, &Options::default(), 1e-8, 4096).unwrap();
+    assert!(c.converged);
+    let tau_err = (c.max_shear.value.unwrap() - 1.0).abs();
+    assert!(
+        tau_err <= c.tau_error.unwrap(),
+        "τ_max {tau_err:e} off, estimate {:e}",
+        c.tau_error.unwrap()
+    );
+    let exact = PI * (1.0 - 0.6f64.powi(4)) / 2.0;
+    let j_err = (c.solution.torsional_rigidity - exact).abs() / exact;
+    assert!(j_err <= c.j_error);
+}
+
+/// Rungs below the geometry's starting n0 (the ladder starts at n0/4) are
+/// below the resolution it asks for; a ratio of differences faster than
+/// the rate floor that comes from them is pre-asymptotic and no longer shrinks the estimate to the
+/// floor's. Before: the channel 0.5 × 1 with walls of 0.1 stopped at
+/// n = 512 with J 5.6e-9 off and an estimate of 2.2e-9 (differences 2.8e-3
+/// and 2.8e-7, a ratio of 2^−13); a star-shaped 40-gon stopped at n = 2048
+/// with J 2.9e-10 off and 3.6e-11 reported (the next ratio was 2^−3.9).
+#[test]
+fn pre_asymptotic_first_rungs_do_not_shrink_the_estimates() {
+    let channel = sections::polygon(&[
+        [0.0, 0.0],
+        [0.5, 0.0],
+        [0.5, 0.1],
+        [0.1, 0.1],
+        [0.1, 0.9],
+        [0.5, 0.9],
+        [0.5, 1.0],
+        [0.0, 1.0],
+    ])
+    .unwrap();
+    // a star-shaped 40-gon, radii in [0.7, 1] from a fixed sequence
+    let mut s: u64 = 4;
+    let mut next = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let star: Vec<V2> = (0..40)
+        .map(|k| {
+            let th = 2.0 * PI * (k as f64 + 0.3 * next()) / 40.0;
+            let r = 0.7 + 0.3 * next();
+            [r * th.cos(), r * th.sin()]
+        })
+        .collect();
+    let star = sections::polygon(&star).unwrap();
+    // references: n = 2048 (the channel's J moves by 1.3e-13 from 2048 to
+    // 4096) and 4096 (the star's by 6.6e-13 from 4096 to 8192)
+    for (sec, n_ref, tol) in [(&channel, 2048, 1e-8), (&star, 4096, 1e-6)] {
+        let reference = solve(sec, &opts_n(n_ref)).unwrap().torsional_rigidity;
+        let c = solve_to_tolerance(sec, &Options::default(), tol, 4096).unwrap();
+        assert!(c.converged);
+        let err = (c.solution.torsional_rigidity - reference).abs() / reference;
+        assert!(
+            err <= c.j_error,
+            "n = {}: J {err:e} off, estimate {:e}",
+            c.solution.options.n,
+            c.j_error
+        );
+    }
+}
