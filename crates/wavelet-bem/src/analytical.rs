@@ -112,6 +112,25 @@ impl Rectangle {
         }
         2.0 * a * (1.0 - 8.0 / (PI * PI) * s)
     }
+    /// The warping constant Γ = ∫ ω² dA about the centre (ω the warping
+    /// function, w along x), term by term: the terms decay like n⁻⁶.
+    pub fn warping_constant(&self) -> f64 {
+        let (a, b) = (0.5 * self.w, 0.5 * self.h);
+        let mut g = 4.0 * a.powi(3) * b.powi(3) / 9.0;
+        for n in 0..200_000 {
+            let m = (2 * n + 1) as f64;
+            let k = m * PI / (2.0 * a);
+            let sg = if n % 2 == 0 { 1.0 } else { -1.0 };
+            let c = -32.0 * a * a * sg / (m.powi(3) * PI.powi(3));
+            let t = (k * b).tanh();
+            // 2 ∫∫ xy φ: ∫x sin(kx) = 2(−1)ⁿ/k², ∫ y sinh(ky)/cosh(kb) = 2(b/k − tanh(kb)/k²)
+            g += 2.0 * c * (2.0 * sg / (k * k)) * 2.0 * (b / k - t / (k * k));
+            // ∫∫ φ²: ∫ sin² = a, ∫ sinh²(ky)/cosh²(kb) = tanh(kb)/k − b/cosh²(kb)
+            let sech2 = 1.0 - t * t;
+            g += c * c * a * (t / k - b * sech2);
+        }
+        g
+    }
 }
 
 /// Limaçon z = A(e^{iθ} + c e^{2iθ}), 0 ≤ c ≤ ½ (image of the unit disc under a
