@@ -413,7 +413,11 @@ impl StaticSolver<'_> {
                 rb0: &rb0,
                 r: &r_g,
             };
-            let sticks = t.reversed_points(&obs.status);
+            let sticks = if opts.front_prediction {
+                t.reversed_points(&obs.status)
+            } else {
+                Vec::new()
+            };
             let trial = if predicted.is_empty() && sticks.is_empty() {
                 None
             } else {

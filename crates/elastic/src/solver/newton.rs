@@ -78,7 +78,7 @@ impl StaticSolver<'_> {
                 &obs.status,
                 symmetric && opts.front_prediction,
             );
-            let sticks = if symmetric {
+            let sticks = if symmetric && opts.front_prediction {
                 t.reversed_points(&obs.status)
             } else {
                 Vec::new()

@@ -102,10 +102,11 @@ pub struct SolverOptions {
     /// Frozen friction limits: stop the passes when the largest change of a
     /// limit is below this × the largest contact pressure.
     pub friction_tolerance: f64,
-    /// Opening-front prediction in the Newton passes (see the solver's
-    /// `front` module): steps that open the points ahead of an opening
-    /// front together, kept only when they prove right. The converged
-    /// answer is the same either way; only the path changes.
+    /// Opening-front and stick prediction in the Newton passes (see the
+    /// solver's `front` module): steps that open the points ahead of an
+    /// opening front together, and that try closed points whose slip just
+    /// reversed as sticking, kept only when they are descent steps. The
+    /// converged answer is the same either way; only the path changes.
     pub front_prediction: bool,
     /// Secant slip damping in the Newton passes, as a fallback: once a
     /// status pattern repeats two iterates later (ping-pong), points whose
