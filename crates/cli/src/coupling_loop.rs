@@ -196,6 +196,23 @@ fn max_rel_change(a: &[f64], b: &[f64]) -> f64 {
         / scale
 }
 
+/// The length (s) of the block after an accepted one of `span` seconds
+/// whose error allows it to grow by `grow`, given the `target` it was cut
+/// from. A block that an output time cut short of its target does not set
+/// the next one's length, unless that is shorter. A block that ends short
+/// of its target only because the next thermal step would overshoot it
+/// does: its span times `grow` (blocks are whole steps, so a target kept
+/// instead would never reach two steps of a schedule whose steps are
+/// longer than half of it).
+fn next_target(target: Option<f64>, span: f64, grow: f64, at_output: bool) -> f64 {
+    let next = span * grow;
+    match target {
+        Some(d) if at_output && span < 0.999 * d && grow >= 1.0 => d,
+        Some(d) if at_output && span < 0.999 * d => d.min(next),
+        _ => next,
+    }
+}
+
 /// Aitken's dynamic relaxation of the coupling iteration (Irons and Tuck):
 /// the next state is `used + ω (G(used) − used)`, with ω from the last two
 /// conductance residuals `r = h(G(used)) − h(used)`,
@@ -685,15 +702,8 @@ pub(crate) fn two_way<'s>(
                             target = Some(span * grow.max(0.2));
                             (a, it + 1, change.max(0.0))
                         } else {
-                            // a block cut short by an output time does not
-                            // set the length of the next one, unless shorter
-                            let cut = target.is_some_and(|d| span < 0.999 * d);
-                            let next = span * grow;
-                            target = Some(match target {
-                                Some(d) if cut && grow >= 1.0 => d,
-                                Some(d) if cut => d.min(next),
-                                _ => next,
-                            });
+                            let at_output = steps.last().is_some_and(|s| s.output.is_some());
+                            target = Some(next_target(target, span, grow, at_output));
                             (a, 1, e)
                         }
                     }
@@ -781,7 +791,7 @@ pub(crate) fn two_way<'s>(
 
 #[cfg(test)]
 mod tests {
-    use super::Aitken;
+    use super::{Aitken, next_target};
 
     /// Iterates x ← x + ω (g(x) − x) with Aitken's ω until |g(x) − x| ≤ 1e-12;
     /// returns the iterations and the final x.
@@ -797,6 +807,23 @@ mod tests {
             x += w * (gx - x);
         }
         (usize::MAX, x)
+    }
+
+    #[test]
+    fn a_block_short_of_its_target_by_a_step_still_lets_the_next_grow() {
+        // 20 s steps, target 25.4 s: the block is one step (a second would
+        // overshoot); with a small error the next target is 40 s (two
+        // steps), not 25.4 s again (which kept every block at one step
+        // from 100 s to 1000 s of the vessel's schedule)
+        assert_eq!(next_target(Some(25.4), 20.0, 2.0, false), 40.0);
+        // a large error shortens it
+        assert_eq!(next_target(Some(25.4), 20.0, 0.5, false), 10.0);
+        // cut short by an output time: the target stands (or shrinks)
+        assert_eq!(next_target(Some(25.4), 20.0, 2.0, true), 25.4);
+        assert_eq!(next_target(Some(25.4), 20.0, 0.5, true), 10.0);
+        // a block that reached its target at an output time grows as usual
+        assert_eq!(next_target(Some(20.0), 20.0, 2.0, true), 40.0);
+        assert_eq!(next_target(None, 0.02, 2.0, false), 0.04);
     }
 
     #[test]
