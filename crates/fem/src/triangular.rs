@@ -11,6 +11,7 @@
 //! costs a few supernodes instead of a whole solve.
 
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+use faer::{MatMut, MatRef, Par};
 
 use crate::error::FemError;
 use crate::solver::CholeskySolver;
@@ -145,13 +146,12 @@ impl CholeskySolver {
                         let acc: f64 = below.iter().zip(col).map(|(&r, &c)| c * x[r]).sum();
                         x[b + j] -= acc;
                     }
-                    // L_topᵀ x_top = x_top, by columns of L_top (rows of
-                    // its transpose), last first
-                    for j in (0..w).rev() {
-                        let col = &l[j * rows..j * rows + w];
-                        let acc: f64 = (j + 1..w).map(|i| col[i] * x[b + i]).sum();
-                        x[b + j] = (x[b + j] - acc) / col[j];
-                    }
+                    let lm = MatRef::from_column_major_slice(l, rows, w);
+                    faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+                        lm.submatrix(0, 0, w, w).transpose(),
+                        MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1),
+                        Par::Seq,
+                    );
                 }
             }
         }
@@ -246,17 +246,17 @@ fn supernode<'a>(
 
 /// The forward step of one supernode on a dense x.
 fn forward_supernode(b: usize, w: usize, below: &[usize], rows: usize, l: &[f64], x: &mut [f64]) {
-    // column by column: the diagonal block (a plain loop: faer's call costs
-    // more than the work on the many small supernodes), then the rows below
+    let lm = MatRef::from_column_major_slice(l, rows, w);
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        lm.submatrix(0, 0, w, w),
+        MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1),
+        Par::Seq,
+    );
     for j in 0..w {
-        let col = &l[j * rows..(j + 1) * rows];
-        x[b + j] /= col[j];
         let xj = x[b + j];
         if xj != 0.0 {
-            for i in j + 1..w {
-                x[b + i] -= col[i] * xj;
-            }
-            for (&r, &c) in below.iter().zip(&col[w..]) {
+            let col = &l[j * rows + w..(j + 1) * rows];
+            for (&r, &c) in below.iter().zip(col) {
                 x[r] -= c * xj;
             }
         }
