@@ -42,7 +42,6 @@ pub mod reference;
 pub mod solver;
 pub mod triangle;
 pub mod triangle6;
-pub mod triangular;
 pub mod update;
 
 pub use assembler::{Assembler, AssemblerBuilder, BlockId, Element, LocalSystem, Parallelism};
