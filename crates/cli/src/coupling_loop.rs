@@ -205,11 +205,10 @@ fn max_rel_change(a: &[f64], b: &[f64]) -> f64 {
 /// instead would never reach two steps of a schedule whose steps are
 /// longer than half of it).
 fn next_target(target: Option<f64>, span: f64, grow: f64, at_output: bool) -> f64 {
-    let next = span * grow;
+    // (a shrinking block, grow < 1, is shorter than the target anyway)
     match target {
         Some(d) if at_output && span < 0.999 * d && grow >= 1.0 => d,
-        Some(d) if at_output && span < 0.999 * d => d.min(next),
-        _ => next,
+        _ => span * grow,
     }
 }
 
