@@ -347,7 +347,15 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             FrictionBound::Frozen => (self.strength(-committed.friction_pressure), 0.0),
         };
         let tau_trial = self.k_s * (jump.x - committed.slip);
-        if tau_trial.abs() <= s {
+        // A point without strength (s = 0: frictionless, or no pressure and
+        // no cohesion) slides freely: τ = 0 either way, and calling it
+        // stuck when its trial traction is 0 to the last bit (Δu_t equal
+        // to the committed slip) only flipped its status at round-off,
+        // which kept converged Newton passes iterating. It keeps the stick
+        // tangent there (the other one-sided derivative, as at the kink
+        // below): from an unloaded state the first Newton step then holds
+        // the faces together, which saves an iteration.
+        if s > 0.0 && tau_trial.abs() <= s {
             LawResponse {
                 traction: Vector2::new(tau_trial, nr.sigma),
                 tangent: Matrix2::new(self.k_s, 0.0, 0.0, k_n),
@@ -370,7 +378,7 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             // turns the point back into stick overshoots and the line search
             // can only creep.
             let frozen = self.bound == FrictionBound::Frozen;
-            let k_t = if frozen && tau_trial.abs() - s <= KINK_TOLERANCE * s {
+            let k_t = if (frozen || s <= 0.0) && tau_trial.abs() - s <= KINK_TOLERANCE * s {
                 self.k_s
             } else if frozen && committed.secant_slip {
                 self.k_s * s / tau_trial.abs()

@@ -387,6 +387,35 @@ fn stick_below_the_limit_and_on_the_limit_when_slipping() {
 }
 
 #[test]
+fn a_point_without_strength_never_sticks() {
+    // frictionless (φ = 0, c = 0), and frictional at zero frozen pressure:
+    // τ = 0 whatever the tangential jump, status slip — also when the
+    // trial traction is exactly 0 (Δu_t equal to the committed slip),
+    // where a stick status used to flip with round-off; the tangent is
+    // the stick one there (the one-sided derivative into the elastic
+    // side), 0 elsewhere
+    let dun = -1.0e-6;
+    let frozen = friction_law(0.0, 30.0).with_friction_bound(FrictionBound::Frozen);
+    let laws = [friction_law(0.0, 0.0), frozen];
+    for law in &laws {
+        for slip in [0.0, 3.0e-7, -2.0e-9] {
+            let committed = JointState {
+                slip,
+                ..JointState::default()
+            };
+            for dut in [slip, slip + 1e-12, slip - 4e-6] {
+                let r = law.evaluate(&Vector2::new(dut, dun), &committed);
+                assert_eq!(r.status, ContactStatus::Slip, "{law:?} at Δu_t = {dut}");
+                assert_eq!(r.traction.x, 0.0);
+                let stick_side = if dut == slip { K } else { 0.0 };
+                assert_eq!(r.tangent[(0, 0)], stick_side);
+                assert_relative_eq!(r.slip, dut, epsilon = 1e-21, max_relative = 1e-14);
+            }
+        }
+    }
+}
+
+#[test]
 fn slip_is_irreversible_on_unloading() {
     let phi = 30.0_f64;
     let law = friction_law(0.0, phi);
