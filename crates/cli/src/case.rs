@@ -558,6 +558,8 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     summary["newton_max_iterations_per_increment"] = json!(outcome.newton.max_per_increment);
     // the bulk condensed onto this many interface dofs (null: full passes)
     summary["newton_condensed_interface_dofs"] = json!(outcome.newton.condensed_dofs);
+    summary["newton_failed_attempt_iterations"] = json!(outcome.newton.failed_iterations);
+    summary["newton_coupled_increments"] = json!(outcome.newton.coupled_increments);
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);
         summary["coupling"]["per_output"] = json!(

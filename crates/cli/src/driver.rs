@@ -272,6 +272,12 @@ pub struct NewtonStats {
     /// Interface dofs the Newton passes were condensed onto (None: full
     /// passes).
     pub condensed_dofs: Option<usize>,
+    /// Newton iterations of failed attempts (cut back, or a stalled outer
+    /// loop of frozen friction limits), not counted in `iterations`.
+    pub failed_iterations: usize,
+    /// Increments solved by the coupled Mohr–Coulomb Newton after the
+    /// outer loop of the frozen friction limits stalled.
+    pub coupled_increments: usize,
 }
 
 /// What the heat conduction did.
@@ -1029,6 +1035,8 @@ impl<'s> Contact<'s> {
         self.newton.iterations += reports.iter().map(|r| r.iterations).sum::<usize>();
         self.newton.increments += reports.len();
         for r in &reports {
+            self.newton.failed_iterations += r.failed_iterations;
+            self.newton.coupled_increments += usize::from(r.coupled);
             self.newton.max_per_increment = self.newton.max_per_increment.max(r.iterations);
             self.newton.max_augmentations = self.newton.max_augmentations.max(r.augmentations);
         }
@@ -1082,11 +1090,17 @@ pub fn interface_point_weights(model: &tecon_elastic::ElasticModel<'_>) -> Vec<f
 fn print_history(time: f64, reports: &[IncrementReport]) {
     for r in reports {
         eprintln!(
-            "t = {time} s, load fraction {:.3}: {} Newton iterations in {} passes, {} multiplier updates:",
+            "{}, load fraction {:.3}: {} Newton iterations in {} passes, {} multiplier updates{}:",
+            crate::figures::time_label(time),
             r.fraction,
             r.iterations,
             r.passes.len(),
-            r.augmentations
+            r.augmentations,
+            if r.coupled {
+                " (coupled Mohr–Coulomb Newton)"
+            } else {
+                ""
+            }
         );
         for c in &r.cutbacks {
             eprintln!("  cut back: {c}");

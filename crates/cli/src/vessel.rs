@@ -458,6 +458,12 @@ pub fn summary(run: &VesselRun) -> Value {
             "factorisations": run.newton.solves.factorisations,
             "reused_factorisations": run.newton.solves.reused,
             "low_rank_corrected_solves": run.newton.solves.corrected,
+            // iterations of failed attempts (cut back or a stalled outer
+            // loop), not in "iterations"
+            "failed_attempt_iterations": run.newton.failed_iterations,
+            // increments solved by the coupled Mohr–Coulomb Newton after the
+            // outer loop of the frozen friction limits stalled
+            "coupled_increments": run.newton.coupled_increments,
             // the bulk condensed onto this many interface dofs (null: full passes)
             "condensed_interface_dofs": run.newton.condensed_dofs,
         },
@@ -652,6 +658,18 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         run.newton.solves.reused,
         run.newton.solves.corrected,
     );
+    if run.newton.failed_iterations > 0 {
+        s += &format!(
+            "  plus {} iterations in failed attempts (cut back{})\n",
+            run.newton.failed_iterations,
+            match run.newton.coupled_increments {
+                0 => String::new(),
+                k => format!(
+                    "; {k} increment(s) whose outer loop of frozen friction limits stalled were solved by the coupled Mohr–Coulomb Newton"
+                ),
+            }
+        );
+    }
     if let Some(m) = run.newton.condensed_dofs {
         s += &format!(
             "Newton passes condensed onto the {m} interface dofs (the bulk condensed once; --no-condensation for full passes)\n"

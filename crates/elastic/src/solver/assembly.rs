@@ -5,7 +5,8 @@
 
 use nalgebra::{SMatrix, SVector};
 use tecon_contact::{
-    ContactStatus, InterfaceElement, JointState, PointOutput, QuadraticInterfaceElement,
+    ContactStatus, FrictionBound, InterfaceElement, JointState, PointOutput,
+    QuadraticInterfaceElement,
 };
 use tecon_fem::triangle::TriangleGeometry;
 use tecon_fem::triangle6::Triangle6;
@@ -534,6 +535,29 @@ impl StaticSolver<'_> {
         for (a, b) in kt.values_mut().iter_mut().zip(stick.values()) {
             *a += weight * (b - *a);
         }
+        Ok(kt)
+    }
+
+    /// The tangent with every frictional law's slip limit frozen at its
+    /// stored pressure (symmetric), whatever the options' bound.
+    pub(super) fn frozen_tangent(
+        &self,
+        u: &[f64],
+        committed: &[PointStates],
+    ) -> Result<CsrMatrix, ElasticError> {
+        let laws: Vec<Joint> = self
+            .laws
+            .iter()
+            .map(|l| match l {
+                Joint::Frictional(m) => {
+                    Joint::Frictional(m.with_friction_bound(FrictionBound::Frozen))
+                }
+                other => other.clone(),
+            })
+            .collect();
+        let mut f = vec![0.0; u.len()];
+        let mut kt = self.k_bulk.clone();
+        self.add_interfaces_with(&laws, u, committed, Some(&mut kt), &mut f)?;
         Ok(kt)
     }
 

@@ -50,13 +50,58 @@ impl StaticSolver<'_> {
         let mut s = 0.0;
         let mut ds = 1.0 / self.options.increments.max(1) as f64;
         let mut cutbacks = Vec::new();
+        let mut failed_iterations = 0;
         let mut reports = Vec::new();
         // the iteration history of the last failed attempt
         let mut last_failure: Option<Vec<IterationRecord>> = None;
         while s < 1.0 - 1e-14 {
             let s_try = (s + ds).min(1.0);
             let loads = Loads::lerp(&start, target, s_try, n_values);
-            match self.increment(&loads) {
+            self.outer_stalled = false;
+            let attempt = match self.increment(&loads) {
+                Err(ElasticError::NotConverged {
+                    number,
+                    from,
+                    fraction,
+                    increment,
+                    reason,
+                    attempts,
+                    history,
+                }) if std::mem::take(&mut self.outer_stalled) => {
+                    // The outer loop of the frozen friction limits stalled
+                    // (high friction: the statuses of a few points flip
+                    // between updates and the limits keep changing by ~1e-4
+                    // of the pressure). The same increment by the coupled
+                    // Newton, whose fixed point is the same Coulomb
+                    // solution; if it fails too, the frozen loop's failure
+                    // is cut back as before.
+                    match self.coupled_increment(&loads) {
+                        Ok(r) => {
+                            failed_iterations += history.len();
+                            cutbacks.push(format!(
+                                "fraction {s:.4} → {s_try:.4} (increment {ds:.3e}) with frozen friction limits: {reason}; solved by the coupled Mohr–Coulomb Newton instead"
+                            ));
+                            Ok(r)
+                        }
+                        Err(ElasticError::NotConverged { reason: why, .. }) => {
+                            Err(ElasticError::NotConverged {
+                                number,
+                                from,
+                                fraction,
+                                increment,
+                                reason: format!(
+                                    "{reason}; the coupled Mohr–Coulomb Newton from the same state failed too ({why})"
+                                ),
+                                attempts,
+                                history,
+                            })
+                        }
+                        Err(e) => Err(e),
+                    }
+                }
+                other => other,
+            };
+            match attempt {
                 Ok((u, states, start, mut report)) => {
                     // point output of the converged increment, evaluated from
                     // the states its last Newton pass started from
@@ -67,6 +112,7 @@ impl StaticSolver<'_> {
                     self.loads = loads;
                     s = s_try;
                     report.cutbacks = std::mem::take(&mut cutbacks);
+                    report.failed_iterations = std::mem::take(&mut failed_iterations);
                     // a later failure starts from another state
                     last_failure = None;
                     // an easy increment lets the next one grow back
@@ -108,6 +154,7 @@ impl StaticSolver<'_> {
                             history,
                         });
                     }
+                    failed_iterations += history.len();
                     last_failure = Some(history.clone());
                     let tail: Vec<String> = history
                         .iter()
@@ -277,6 +324,7 @@ impl StaticSolver<'_> {
             outer_changes.push(change);
             let limit = self.options.max_augmentations;
             if augmentations >= limit && !(progressing && augmentations < OUTER_EXTENSION * limit) {
+                self.outer_stalled = frozen_friction;
                 return Err(super::tracker::failure(
                     format!(
                         "after {augmentations} outer updates the multipliers still change by {max_change:.3e} Pa and the friction limits by {max_friction_change:.3e} Pa (largest contact pressure {max_p:.3e} Pa)"
@@ -309,9 +357,72 @@ impl StaticSolver<'_> {
                 passes,
                 augmentations,
                 cutbacks: Vec::new(),
+                failed_iterations: 0,
                 history,
+                coupled: false,
             },
         ))
+    }
+
+    /// [`StaticSolver::increment`] with the coupled Mohr–Coulomb bound:
+    /// full Newton passes on the non-symmetric tangent, with only the
+    /// multipliers updated between passes. The converged pressures are
+    /// stored as the frozen limits, so the next increment starts from them.
+    #[allow(clippy::type_complexity)]
+    fn coupled_increment(
+        &mut self,
+        loads: &Loads,
+    ) -> Result<(Vec<f64>, States, States, IncrementReport), ElasticError> {
+        let frozen_laws = self.laws.clone();
+        self.laws = frozen_laws
+            .iter()
+            .map(|j| match j {
+                Joint::Frictional(l) => {
+                    Joint::Frictional(l.with_friction_bound(FrictionBound::Coupled))
+                }
+                other => other.clone(),
+            })
+            .collect();
+        let (bound, choice) = (self.options.friction_bound, self.condensed_choice);
+        self.options.friction_bound = FrictionBound::Coupled;
+        // the condensed passes take symmetric (frozen) tangents only
+        self.condensed_choice = Some(false);
+        let result = self.increment(loads);
+        self.laws = frozen_laws;
+        self.options.friction_bound = bound;
+        self.condensed_choice = choice;
+        let (u, mut states, start, mut report) = result?;
+        for ((itf, law), set) in self
+            .model
+            .interfaces
+            .iter()
+            .zip(&self.laws)
+            .zip(states.iter_mut())
+        {
+            if itf.is_quadratic() {
+                update_set(
+                    &itf.quadratic_nodes,
+                    &itf.quadratic,
+                    law,
+                    &u,
+                    itf.reference.as_deref(),
+                    set,
+                    (true, false),
+                );
+            } else {
+                update_set(
+                    &itf.nodes,
+                    &itf.elements,
+                    law,
+                    &u,
+                    itf.reference.as_deref(),
+                    set,
+                    (true, false),
+                );
+            }
+        }
+        report.coupled = true;
+        Ok((u, states, start, report))
     }
 }
 

@@ -95,6 +95,9 @@ pub struct StaticSolver<'a> {
     /// that change within a contact solve.
     interface_dofs: Vec<usize>,
     lu: Option<LuSolver>,
+    /// The last failed increment stopped in its outer loop (frozen friction
+    /// limits or multipliers still changing), not in a Newton pass.
+    outer_stalled: bool,
     u: Vec<f64>,
     /// `u` in the output gauge (see [`StaticSolver::displacement`]).
     gauged: Vec<f64>,
@@ -268,6 +271,7 @@ impl<'a> StaticSolver<'a> {
             condensed_choice: None,
             interface_dofs,
             lu: None,
+            outer_stalled: false,
             u: vec![0.0; n],
             gauged: vec![0.0; n],
             gauges: Vec::new(),

@@ -50,6 +50,16 @@ impl StaticSolver<'_> {
                         .as_ref()
                         .is_some_and(|h| no_softer(&obs.status, h))
                 {
+                    let kt = if opts.friction_bound == FrictionBound::Coupled && self.has_friction()
+                    {
+                        // the coupled slip tangent is not symmetric (its
+                        // symmetric part is indefinite at high friction):
+                        // the frozen limits' tangent has the same normal
+                        // stiffness and shows what holds the bodies
+                        self.frozen_tangent(&u, committed)?
+                    } else {
+                        kt
+                    };
                     self.check_held(kt)?;
                     self.held_statuses = Some(obs.status);
                 }

@@ -161,6 +161,12 @@ pub struct IncrementReport {
     pub history: Vec<IterationRecord>,
     /// Failed attempts (and why) cut back before this increment converged.
     pub cutbacks: Vec<String>,
+    /// Newton iterations of those failed attempts (not in `iterations`).
+    pub failed_iterations: usize,
+    /// The increment was solved by the coupled Mohr–Coulomb Newton (the
+    /// slip limit a function of the current pressure, non-symmetric
+    /// tangent) after the outer loop of the frozen limits stalled.
+    pub coupled: bool,
 }
 
 /// Output of one interface integration point.
