@@ -42,6 +42,7 @@ pub mod reference;
 pub mod solver;
 pub mod triangle;
 pub mod triangle6;
+pub mod triangular;
 pub mod update;
 
 pub use assembler::{Assembler, AssemblerBuilder, BlockId, Element, LocalSystem, Parallelism};

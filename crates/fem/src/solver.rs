@@ -66,7 +66,7 @@ fn scratch(req: faer::dyn_stack::StackReq) -> Result<MemBuffer, FemError> {
     MemBuffer::try_new(req).map_err(|_| FemError::Solver("out of memory for solver scratch".into()))
 }
 
-fn check_finite(what: &str, v: &[f64]) -> Result<(), FemError> {
+pub(crate) fn check_finite(what: &str, v: &[f64]) -> Result<(), FemError> {
     match v.iter().position(|x| !x.is_finite()) {
         Some(index) => Err(FemError::NonFinite {
             what: what.into(),
@@ -86,6 +86,9 @@ fn as_col(rhs: &mut [f64]) -> MatMut<'_, f64> {
 pub struct CholeskySolver {
     pattern: std::sync::Arc<SparsityPattern>,
     symbolic: std::sync::Arc<SymbolicCholesky<usize>>,
+    /// The supernode of each column of a supernodal factor (empty for a
+    /// simplicial one), for the forward solves of unit vectors.
+    supernode_of: std::sync::Arc<Vec<u32>>,
     l_values: Vec<f64>,
     factorised: bool,
 }
@@ -114,7 +117,7 @@ impl CholeskySolver {
         Self::analyse_with(pattern, SupernodalThreshold(0.5))
     }
 
-    fn analyse_with(
+    pub(crate) fn analyse_with(
         pattern: std::sync::Arc<SparsityPattern>,
         supernodal: SupernodalThreshold,
     ) -> Result<Self, FemError> {
@@ -129,9 +132,27 @@ impl CholeskySolver {
         )
         .map_err(|e| FemError::Solver(format!("{e:?}")))?;
         let l_values = vec![0.0; symbolic.len_val()];
+        let supernode_of = match symbolic.raw() {
+            faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(sym) => {
+                let mut of = vec![0u32; pattern.n()];
+                for (s, (&b, &e)) in sym
+                    .supernode_begin()
+                    .iter()
+                    .zip(sym.supernode_end())
+                    .enumerate()
+                {
+                    let s = u32::try_from(s)
+                        .map_err(|_| FemError::Solver("more than 2^32 supernodes".into()))?;
+                    of[b..e].fill(s);
+                }
+                of
+            }
+            _ => Vec::new(),
+        };
         Ok(CholeskySolver {
             pattern,
             symbolic: std::sync::Arc::new(symbolic),
+            supernode_of: std::sync::Arc::new(supernode_of),
             l_values,
             factorised: false,
         })
@@ -143,6 +164,7 @@ impl CholeskySolver {
         CholeskySolver {
             pattern: self.pattern.clone(),
             symbolic: self.symbolic.clone(),
+            supernode_of: self.supernode_of.clone(),
             l_values: vec![0.0; self.l_values.len()],
             factorised: false,
         }
@@ -160,6 +182,26 @@ impl CholeskySolver {
     /// The analysed pattern.
     pub fn pattern(&self) -> &std::sync::Arc<SparsityPattern> {
         &self.pattern
+    }
+
+    /// True once a numeric factorisation succeeded.
+    pub(crate) fn is_factorised(&self) -> bool {
+        self.factorised
+    }
+
+    /// The symbolic analysis.
+    pub(crate) fn symbolic_ref(&self) -> &SymbolicCholesky<usize> {
+        &self.symbolic
+    }
+
+    /// The factor's values (faer's layout of the symbolic analysis).
+    pub(crate) fn values(&self) -> &[f64] {
+        &self.l_values
+    }
+
+    /// The supernode of each column (supernodal factors only).
+    pub(crate) fn supernode_of(&self) -> &[u32] {
+        &self.supernode_of
     }
 
     /// Number of stored entries in the factor.
