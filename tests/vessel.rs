@@ -455,7 +455,10 @@ fn high_friction_converges_past_the_outer_limit() {
         };
         worst = worst.max(violation / p_max);
     }
-    assert!(worst < 2e-4, "Coulomb violated by {worst:.2e} of the largest pressure");
+    assert!(
+        worst < 2e-4,
+        "Coulomb violated by {worst:.2e} of the largest pressure"
+    );
     let outer = f(&v10, "/newton/max_augmentations_per_increment");
     let limit = tecon_elastic::SolverOptions::default().max_augmentations as f64;
     assert!(
@@ -471,7 +474,10 @@ fn high_friction_converges_past_the_outer_limit() {
         "p = {p10} at μ = 10, {p2} at μ = 2"
     );
     let p5 = f(&s5, "/final/contact_pressure_mean");
-    assert!(p5 > p2 && p5 < p10, "p = {p5} at μ = 5, {p2} at μ = 2, {p10} at μ = 10");
+    assert!(
+        p5 > p2 && p5 < p10,
+        "p = {p5} at μ = 5, {p2} at μ = 2, {p10} at μ = 10"
+    );
 }
 
 /// μ = 2 (cohesion 0) on the default mesh (g0, order 2) failed in the first
