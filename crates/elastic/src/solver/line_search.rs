@@ -15,17 +15,15 @@ impl StaticSolver<'_> {
         &self,
         f_ext: &[f64],
         committed: &[PointStates],
-        u: &[f64],
-        ku: &[f64],
-        du: &[f64],
+        (u, ku): (&[f64], &[f64]),
+        (du, kdu): (&[f64], &[f64]),
         du_rotated: &[f64],
         r: &[f64],
     ) -> Result<f64, ElasticError> {
         // the bulk is linear: K (u + α du) = K u + α K du
-        let kdu = self.bulk_force(du);
         let g = |alpha: f64| -> Result<f64, ElasticError> {
             let trial: Vec<f64> = u.iter().zip(du).map(|(a, b)| a + alpha * b).collect();
-            let mut fi: Vec<f64> = ku.iter().zip(&kdu).map(|(a, b)| a + alpha * b).collect();
+            let mut fi: Vec<f64> = ku.iter().zip(kdu).map(|(a, b)| a + alpha * b).collect();
             self.add_interfaces(&trial, committed, None, &mut fi)?;
             let rt = self.residual(f_ext, &fi);
             Ok(-dot(&rt, du_rotated))

@@ -21,10 +21,12 @@ impl StaticSolver<'_> {
         let opts = self.options;
         let mut t = PassTracker::new(norm(f_ext), pass);
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
+        // K u of the next iterate, when the line search has it already
+        let mut next_ku: Option<Vec<f64>> = None;
         while t.history.len() < opts.max_iterations {
             // K u once per iterate: the tangent, the predicted branch and
             // the line search all start from it
-            let ku = self.bulk_force(&u);
+            let ku = next_ku.take().unwrap_or_else(|| self.bulk_force(&u));
             let (kt, f_int) = self.tangent_and_force_from(&u, &ku, committed, true)?;
             let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             let status_t = self.statuses(&u, committed);
@@ -107,9 +109,10 @@ impl StaticSolver<'_> {
                 )?
             };
             let (du, du_rotated, known_step) = match trial {
-                Some((du, du_rotated, step, open_at_end)) => {
-                    t.kept_prediction(predicted.len(), &open_at_end);
-                    (du, du_rotated, Some(step))
+                Some(p) => {
+                    t.kept_prediction(predicted.len(), &p.open_at_end);
+                    next_ku = Some(p.ku_end);
+                    (p.du, p.du_rotated, Some(p.step))
                 }
                 None => {
                     if !predicted.is_empty()
@@ -152,7 +155,19 @@ impl StaticSolver<'_> {
             let step = if let Some(step) = known_step {
                 step
             } else if symmetric {
-                self.energy_line_search(f_ext, committed, &u, &ku, &du, &du_rotated, &r)?
+                // the bulk is linear: K (u + α du) = K u + α K du, for the
+                // line search and for the next iterate
+                let kdu = self.bulk_force(&du);
+                let step = self.energy_line_search(
+                    f_ext,
+                    committed,
+                    (&u, &ku),
+                    (&du, &kdu),
+                    &du_rotated,
+                    &r,
+                )?;
+                next_ku = Some(ku.iter().zip(&kdu).map(|(a, b)| a + step * b).collect());
+                step
             } else {
                 self.residual_line_search(f_ext, committed, &u, &du, &r)?
             };
@@ -204,6 +219,19 @@ impl StaticSolver<'_> {
     }
 }
 
+/// A kept step on a predicted branch (see [`StaticSolver::predicted_step`]).
+pub(super) struct PredictedStep {
+    /// The step direction (global frame) and the same in the rotated frame.
+    du: Vec<f64>,
+    du_rotated: Vec<f64>,
+    /// The exact line search's step along it.
+    step: f64,
+    /// Which flat points are open at the end of the step.
+    open_at_end: Vec<bool>,
+    /// The bulk force K u at the end of the step.
+    ku_end: Vec<f64>,
+}
+
 /// Shear stiffness of slipping joint points, as a fraction of k_s, in the
 /// fallback tangent of an iterate where a body is held by slipping points
 /// only (see [`StaticSolver::slip_stabilised_tangent`]).
@@ -234,9 +262,8 @@ impl StaticSolver<'_> {
     /// `predicted` are open (see `front`), if it is a descent direction of
     /// the exact energy (`r` is the exact residual at `u`, rotated frame;
     /// `accept` as for [`StaticSolver::solve`]), with the exact line-search
-    /// step along it (which lowers the energy, however short):
-    /// `(du, du_rotated, step, which points are open at u + step du)`;
-    /// `None` otherwise. A short step is kept too: rejecting it (as below
+    /// step along it (which lowers the energy, however short), as a
+    /// [`PredictedStep`]; `None` otherwise. A short step is kept too: rejecting it (as below
     /// half a step, before) cost a second solve for the exact Newton step,
     /// one iteration in five of the first pass on `t1e5`.
     #[allow(clippy::type_complexity, clippy::too_many_arguments)]
@@ -249,7 +276,7 @@ impl StaticSolver<'_> {
         r: &[f64],
         (predicted, sticks, damped): (&[usize], &[usize], Option<&[bool]>),
         accept: f64,
-    ) -> Result<Option<(Vec<f64>, Vec<f64>, f64, Vec<bool>)>, ElasticError> {
+    ) -> Result<Option<PredictedStep>, ElasticError> {
         let forced = self.forced_branch(committed, predicted, sticks, damped);
         let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
         let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
@@ -269,13 +296,22 @@ impl StaticSolver<'_> {
         }
         let du_rotated = du.clone();
         self.rotations.unrotate_vector(&mut du);
-        let step = self.energy_line_search(f_ext, committed, u, ku, &du, &du_rotated, r)?;
+        let kdu = self.bulk_force(&du);
+        let step =
+            self.energy_line_search(f_ext, committed, (u, ku), (&du, &kdu), &du_rotated, r)?;
         let end: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
         let status = self.statuses(&end, committed);
         let open_at_end = status
             .iter()
             .map(|s| s.0.0 == ContactStatus::Open)
             .collect();
-        Ok(Some((du, du_rotated, step, open_at_end)))
+        let ku_end = ku.iter().zip(&kdu).map(|(a, b)| a + step * b).collect();
+        Ok(Some(PredictedStep {
+            du,
+            du_rotated,
+            step,
+            open_at_end,
+            ku_end,
+        }))
     }
 }
