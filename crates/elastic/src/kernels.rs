@@ -126,6 +126,25 @@ pub fn plane_triangle6(
     ((k + k.transpose()) * 0.5, f)
 }
 
+/// The thermal load of [`plane_triangle6`] alone:
+/// `f = Σ_p w_p Bᵀ D [e₀, e₀, 0]`, without the stiffness (a sixth of the
+/// work; the load is recomputed at every contact solve of a two-way run,
+/// the stiffness never).
+pub fn plane_triangle6_load(
+    g: &Triangle6,
+    d: &Matrix3<f64>,
+    in_plane_expansion: f64,
+    delta_t: &[f64; 6],
+) -> Vector12 {
+    let mut f = Vector12::zeros();
+    for p in g.points(P2_RULE) {
+        let e0 = in_plane_expansion * p.interpolate(delta_t);
+        let s0 = d * Vector3::new(e0, e0, 0.0) * p.weight;
+        f += p.strain_matrix().transpose() * s0;
+    }
+    f
+}
+
 /// Stiffness and thermal load of one generalised-plane-strain 6-node
 /// triangle (dofs: 12 displacements, then ε_zz), as [`gps_triangle`] with
 /// `ΔT` interpolated to the integration points.

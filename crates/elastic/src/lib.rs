@@ -50,7 +50,7 @@ pub use error::{ElasticError, IterationRecord};
 pub use joint::Joint;
 pub use kernels::{
     P2_RULE, element_stress, gps_triangle, gps_triangle6, plane_triangle, plane_triangle6,
-    triangle6_stresses,
+    plane_triangle6_load, triangle6_stresses,
 };
 pub use material::{Analysis, Material};
 pub use model::{Component, ElasticModel, InterfaceNormals, ModelInterface};

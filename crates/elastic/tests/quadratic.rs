@@ -29,7 +29,8 @@ use nalgebra::{Matrix3, Vector3};
 use tecon_elastic::analytical::LameCylinder;
 use tecon_elastic::recovery::{PointStress, spr_recovery, zz_indicator};
 use tecon_elastic::{
-    Analysis, Material, P2_RULE, gps_triangle6, plane_triangle6, triangle6_stresses,
+    Analysis, Material, P2_RULE, gps_triangle6, plane_triangle6, plane_triangle6_load,
+    triangle6_stresses,
 };
 use tecon_fem::edge3::Edge3;
 use tecon_fem::quadrature::TriangleRule;
@@ -524,5 +525,35 @@ fn gps_triangle6_is_consistent_with_plane_kernel_and_free_thermal_expansion() {
     );
     for (s, _) in s {
         assert!(s.iter().all(|v| v.abs() < 1e-3), "{s:?}");
+    }
+}
+
+#[test]
+fn the_load_only_kernel_equals_the_thermal_load_of_the_full_one() {
+    // a curved element (mid-side nodes off the chords) and a ΔT that
+    // varies quadratically: the load alone, as the contact solves of a
+    // two-way run recompute it, equals the full kernel's vector
+    let m = steel();
+    let x = [
+        [0.0, 0.0],
+        [0.3, 0.05],
+        [0.1, 0.4],
+        [0.16, 0.01],
+        [0.21, 0.24],
+        [0.04, 0.21],
+    ];
+    let g = Triangle6::new(x).unwrap();
+    let dt = [80.0, -20.0, 310.0, 5.5, 140.0, -75.0];
+    for analysis in [Analysis::PlaneStrain, Analysis::PlaneStress] {
+        let d = analysis.d(&m);
+        let alpha = analysis.in_plane_expansion(&m);
+        let (_, f) = plane_triangle6(&g, &d, alpha, &dt);
+        let f_load = plane_triangle6_load(&g, &d, alpha, &dt);
+        assert!(
+            (f - f_load).amax() <= 1e-14 * f.amax(),
+            "{:?}: {}",
+            analysis,
+            (f - f_load).amax() / f.amax()
+        );
     }
 }

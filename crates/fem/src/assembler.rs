@@ -45,6 +45,12 @@ pub trait Element<const N: usize>: Sync {
     fn dofs(&self, e: usize) -> [usize; N];
     /// Local matrix and vector of element `e`.
     fn local(&self, e: usize) -> LocalSystem<N>;
+    /// Local vector of element `e` alone (what [`Assembler::add_vector`]
+    /// takes); elements whose matrix costs more than their vector override
+    /// it.
+    fn local_vector(&self, e: usize) -> SVector<f64, N> {
+        self.local(e).vector
+    }
 }
 
 /// Handle of an element block registered in an [`AssemblerBuilder`].
@@ -291,10 +297,10 @@ impl Assembler {
             });
         }
         for e in 0..b.n_elements {
-            let ls = elements.local(e);
+            let v = elements.local_vector(e);
             let dofs = &b.dofs[e * N..(e + 1) * N];
             for a in 0..N {
-                rhs[dofs[a]] += ls.vector[a];
+                rhs[dofs[a]] += v[a];
             }
         }
         Ok(())

@@ -14,7 +14,9 @@ use tecon_fem::{CsrMatrix, Element, LocalSystem, Parallelism};
 
 use crate::error::ElasticError;
 use crate::joint::Joint;
-use crate::kernels::{P2_RULE, gps_triangle, gps_triangle6, plane_triangle, plane_triangle6};
+use crate::kernels::{
+    P2_RULE, gps_triangle, gps_triangle6, plane_triangle, plane_triangle6, plane_triangle6_load,
+};
 use crate::material::{Analysis, Material};
 
 use super::*;
@@ -107,6 +109,16 @@ impl Element<12> for Bulk6<'_> {
             &self.element_delta_t(e),
         );
         LocalSystem { matrix, vector }
+    }
+    #[inline]
+    fn local_vector(&self, e: usize) -> SVector<f64, 12> {
+        let m = &self.materials[e];
+        plane_triangle6_load(
+            &self.geometry[e],
+            &self.analysis.d(m),
+            self.analysis.in_plane_expansion(m),
+            &self.element_delta_t(e),
+        )
     }
 }
 
