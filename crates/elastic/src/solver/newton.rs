@@ -244,18 +244,33 @@ pub(super) const ROUND_OFF_FACTOR: f64 = 64.0;
 
 /// Round-off floor of ‖R‖ = ‖f_ext − K u‖: `ε · ‖ |K| |u| + |f_ext| ‖`
 /// (row-wise sums of magnitudes), times [`ROUND_OFF_FACTOR`].
+///
+/// The rows are summed in fixed chunks of [`FLOOR_CHUNK`], in parallel, and
+/// the chunks' sums added in order: the same number whatever the thread
+/// count (it decides convergence).
 pub(super) fn round_off_floor(k: &CsrMatrix, u: &[f64], f_ext: &[f64]) -> f64 {
+    use rayon::prelude::*;
     let (ptr, idx, val) = (k.pattern().indptr(), k.pattern().indices(), k.values());
-    let s: f64 = (0..k.n())
-        .map(|i| {
+    let rows = |r: std::ops::Range<usize>| -> f64 {
+        r.map(|i| {
             let row: f64 = (ptr[i]..ptr[i + 1])
                 .map(|q| (val[q] * u[idx[q]]).abs())
                 .sum();
             (row + f_ext[i].abs()).powi(2)
         })
-        .sum();
+        .sum()
+    };
+    let n = k.n();
+    let chunks: Vec<f64> = (0..n.div_ceil(FLOOR_CHUNK))
+        .into_par_iter()
+        .map(|c| rows(c * FLOOR_CHUNK..((c + 1) * FLOOR_CHUNK).min(n)))
+        .collect();
+    let s: f64 = chunks.iter().sum();
     ROUND_OFF_FACTOR * f64::EPSILON * s.sqrt()
 }
+
+/// Rows per chunk of [`round_off_floor`].
+const FLOOR_CHUNK: usize = 2048;
 
 impl StaticSolver<'_> {
     /// The Newton step from `u` on the branch where the flat points
