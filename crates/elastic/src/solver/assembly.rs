@@ -375,6 +375,49 @@ where
 }
 
 impl StaticSolver<'_> {
+    /// The outer updates of every interface from the jumps at `u` (see
+    /// [`update_set`]): the largest friction-limit and multiplier changes.
+    pub(super) fn update_outer(
+        &self,
+        u: &[f64],
+        states: &mut [PointStates],
+        flags: (bool, bool),
+    ) -> (f64, f64) {
+        let (mut friction, mut multiplier): (f64, f64) = (0.0, 0.0);
+        for ((itf, law), set) in self
+            .model
+            .interfaces
+            .iter()
+            .zip(&self.laws)
+            .zip(states.iter_mut())
+        {
+            let (f, m) = if itf.is_quadratic() {
+                update_set(
+                    &itf.quadratic_nodes,
+                    &itf.quadratic,
+                    law,
+                    u,
+                    itf.reference.as_deref(),
+                    set,
+                    flags,
+                )
+            } else {
+                update_set(
+                    &itf.nodes,
+                    &itf.elements,
+                    law,
+                    u,
+                    itf.reference.as_deref(),
+                    set,
+                    flags,
+                )
+            };
+            friction = friction.max(f);
+            multiplier = multiplier.max(m);
+        }
+        (friction, multiplier)
+    }
+
     pub(super) fn external_force(&self, loads: &Loads) -> Result<Vec<f64>, ElasticError> {
         let mesh = self.model.mesh;
         let mut f = vec![0.0; self.model.n_dofs()];

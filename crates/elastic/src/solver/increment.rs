@@ -5,7 +5,6 @@ use tecon_contact::FrictionBound;
 
 use crate::error::{ElasticError, IterationRecord};
 
-use super::assembly::update_set;
 use super::*;
 
 impl StaticSolver<'_> {
@@ -267,43 +266,12 @@ impl StaticSolver<'_> {
             // Outer updates from the converged jumps: Uzawa update of the
             // normal multipliers, and the frozen friction limits set to the
             // pressure of this pass.
-            let mut max_change: f64 = 0.0;
-            let mut max_friction_change: f64 = 0.0;
             let mut max_p: f64 = 0.0;
             for p in self.point_outputs(&u, &start).iter().flatten() {
                 max_p = max_p.max(-p.traction.y);
             }
-            for ((itf, law), states) in self
-                .model
-                .interfaces
-                .iter()
-                .zip(&self.laws)
-                .zip(committed.iter_mut())
-            {
-                let (friction, multiplier) = if itf.is_quadratic() {
-                    update_set(
-                        &itf.quadratic_nodes,
-                        &itf.quadratic,
-                        law,
-                        &u,
-                        itf.reference.as_deref(),
-                        states,
-                        (frozen_friction, al.is_some()),
-                    )
-                } else {
-                    update_set(
-                        &itf.nodes,
-                        &itf.elements,
-                        law,
-                        &u,
-                        itf.reference.as_deref(),
-                        states,
-                        (frozen_friction, al.is_some()),
-                    )
-                };
-                max_friction_change = max_friction_change.max(friction);
-                max_change = max_change.max(multiplier);
-            }
+            let (max_friction_change, max_change) =
+                self.update_outer(&u, &mut committed, (frozen_friction, al.is_some()));
             let scale = max_p.max(f64::MIN_POSITIVE);
             let al_done = al.is_none_or(|tol| max_change <= tol * scale);
             let friction_done = max_friction_change <= self.options.friction_tolerance * scale;
@@ -392,35 +360,7 @@ impl StaticSolver<'_> {
         self.options.friction_bound = bound;
         self.condensed_choice = choice;
         let (u, mut states, start, mut report) = result?;
-        for ((itf, law), set) in self
-            .model
-            .interfaces
-            .iter()
-            .zip(&self.laws)
-            .zip(states.iter_mut())
-        {
-            if itf.is_quadratic() {
-                update_set(
-                    &itf.quadratic_nodes,
-                    &itf.quadratic,
-                    law,
-                    &u,
-                    itf.reference.as_deref(),
-                    set,
-                    (true, false),
-                );
-            } else {
-                update_set(
-                    &itf.nodes,
-                    &itf.elements,
-                    law,
-                    &u,
-                    itf.reference.as_deref(),
-                    set,
-                    (true, false),
-                );
-            }
-        }
+        self.update_outer(&u, &mut states, (true, false));
         report.coupled = true;
         Ok((u, states, start, report))
     }
