@@ -198,6 +198,30 @@ fn unknown_key_is_named() {
     assert!(e.contains("outputs"), "{e}");
 }
 
+/// `[thermal] capacity`: consistent (default) or lumped; another word is
+/// an error with the file, line and key.
+#[test]
+fn capacity_key() {
+    let text = std::fs::read_to_string(cases_dir().join("vessel.toml")).unwrap();
+    let with = |v: &str| {
+        text.replacen(
+            "[[thermal.bc]]",
+            &format!("[thermal]\ncapacity = \"{v}\"\n\n[[thermal.bc]]"),
+            1,
+        )
+    };
+    let (e, _d) = error_of(&with("lumpy"));
+    assert!(e.contains("thermal.capacity") && e.contains("lumpy"), "{e}");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("lumped.toml");
+    std::fs::write(&path, with("lumped")).unwrap();
+    let c = case::load(&path).unwrap();
+    let r = case::execute(&c, dir.path()).unwrap();
+    assert_eq!(r.summary["thermal"]["capacity"], "lumped");
+    // the paper mesh's undershoot of the first steps is gone
+    assert_eq!(num(&r.summary, "/thermal/bound_violation"), 0.0);
+}
+
 #[test]
 fn region_without_material_is_named() {
     let text = edited(

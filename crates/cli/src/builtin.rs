@@ -129,6 +129,8 @@ pub struct VesselOptions {
     pub contact_conductance: bool,
     /// Staggered two-way coupling (None: one-way, the paper's).
     pub two_way: Option<crate::driver::TwoWay>,
+    /// Capacity matrix of the heat conduction (consistent: the paper's).
+    pub capacity: crate::case::Capacity,
     /// Quiet: no progress bar.
     pub quiet: bool,
     /// Print the Newton iteration history of every increment to stderr.
@@ -153,6 +155,7 @@ impl Default for VesselOptions {
             normals: InterfaceNormals::Smoothed,
             contact_conductance: false,
             two_way: None,
+            capacity: crate::case::Capacity::Consistent,
             quiet: false,
             verbose: false,
         }
@@ -335,6 +338,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
                 segments,
                 scheme: Scheme::CrankNicolson,
             }),
+            capacity: o.capacity,
         }),
         mechanical: MechanicalSection {
             analysis: match o.analysis {

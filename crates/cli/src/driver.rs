@@ -521,7 +521,7 @@ impl BoundViolation {
             ("above", "highest")
         };
         let cause = if self.transient {
-            "the mesh does not resolve the initial temperature jump (a discrete maximum-principle violation of the first time steps; a finer mesh near the jump removes it)"
+            "the mesh does not resolve the initial temperature jump (a discrete maximum-principle violation of the first time steps; a finer mesh near the jump removes it, and so does a lumped capacity matrix: `--capacity lumped`, or capacity = \"lumped\" in [thermal])"
         } else {
             "the mesh does not resolve the temperature field there (a discrete maximum-principle violation; a finer mesh there removes it)"
         };

@@ -79,6 +79,8 @@ pub struct MultilayerOptions {
     /// Newton passes condensed onto the interface dofs where cheaper
     /// (false: full passes always).
     pub condensation: bool,
+    /// Capacity matrix of every stage's heat conduction.
+    pub capacity: crate::case::Capacity,
 }
 
 impl MultilayerOptions {
@@ -118,6 +120,7 @@ impl MultilayerOptions {
             pressure: None,
             quiet: false,
             condensation: true,
+            capacity: crate::case::Capacity::Consistent,
         })
     }
 
@@ -292,6 +295,7 @@ pub fn stage_thermal_model<'m>(
 ) -> CliResult<ThermalModel<'m>> {
     let d = &o.data;
     let mut m = ThermalModel::new(mesh);
+    m.set_capacity(o.capacity.kind());
     m.set_material_everywhere(tecon_thermal::Material::new(
         d.conductivity,
         d.density,

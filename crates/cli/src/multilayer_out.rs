@@ -1070,6 +1070,7 @@ pub fn run(
     o.times = args.times.clone();
     o.quiet = args.quiet;
     o.condensation = !args.no_condensation;
+    o.capacity = crate::case::Capacity::parse(&args.capacity)?;
     if let Some(p) = args.pressure {
         if !(p.is_finite() && p > 0.0) {
             return Err(format!("--pressure {p}: must be a positive pressure in Pa").into());

@@ -608,6 +608,7 @@ fn thermal_setup<'m>(
         return Ok(None);
     };
     let mut model = ThermalModel::new(mesh);
+    model.set_capacity(th.capacity.kind());
     for (r, m) in mats.iter().enumerate() {
         let need = |name: &str, v: Option<f64>| {
             v.ok_or_else(|| {

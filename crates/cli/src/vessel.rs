@@ -437,6 +437,7 @@ pub fn summary(run: &VesselRun) -> Value {
             "plane_strain_consistent": an_json(&an[2].1),
         },
         "thermal": {
+            "capacity": run.options.capacity.name(),
             "heat_balance_max_rel_error": run.heat_balance,
             "steps": run.thermal_steps,
             "output_times": run.results.iter().map(|r| r.time).collect::<Vec<_>>(),
@@ -923,6 +924,11 @@ pub struct VesselArgs {
     /// Fuse the weld to the core (no interface under the weld).
     #[arg(long)]
     pub fused_weld: bool,
+    /// Capacity matrix of the heat conduction: `consistent` (the paper's)
+    /// or `lumped` (keeps the first time steps inside the temperature
+    /// bounds where the mesh does not resolve the weld's initial jump).
+    #[arg(long, default_value = "consistent")]
+    pub capacity: String,
     /// Generalised plane strain (free ends) instead of plane strain.
     #[arg(long)]
     pub free_ends: bool,
@@ -1069,6 +1075,7 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
         interface,
         friction: args.friction.unwrap_or(d.friction),
         cohesion: args.cohesion.unwrap_or(d.cohesion),
+        capacity: crate::case::Capacity::parse(&args.capacity)?,
         pressure: args.pressure,
         times: args.times.clone(),
         analysis: if args.free_ends {
