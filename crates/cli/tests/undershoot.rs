@@ -99,7 +99,7 @@ fn a_temperature_below_the_initial_field_and_ambient_is_reported() {
 /// (`--capacity lumped`: row sums on the diagonal) the first time steps of
 /// the paper mesh and of level 2 stay inside the bounds (15.9 K and 2.55 K
 /// below them with the consistent matrix, 0 and no note), and the final
-/// prestress moves by less than 1e-5 (measured: 2e-6 on paper, 3e-8 on
+/// prestress moves by less than 1e-5 (measured: 2e-6 on paper, 7e-9 on
 /// level 2): the capacity matters only while the weld's jump is
 /// unresolved. The summary says which matrix ran; a misspelt one is an
 /// error that names the flag.
