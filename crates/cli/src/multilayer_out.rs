@@ -671,6 +671,8 @@ pub fn summary(run: &MultilayerRun) -> Value {
             "half_section": run.options.half_section(),
             "internal_pressure": run.options.pressure,
             "shear_penalty_ratio": run.options.effective_shear_ratio(),
+            // the heat conduction's capacity matrix (consistent or lumped)
+            "thermal_capacity_matrix": run.options.capacity.name(),
         },
         "mesh": {
             "triangles": run.mesh.n_triangles(),

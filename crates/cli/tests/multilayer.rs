@@ -646,3 +646,33 @@ fn the_layers_run_reports_yield_figures_and_sorted_csvs() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--mesh"));
 }
+
+/// The lumped capacity matrix (`--capacity lumped`) in the staged vessel:
+/// the default mesh's first steps of every weld's cooling stay inside the
+/// temperature bounds (14.4 K and 13.5 K below them with the consistent
+/// matrix, measured 2026-11-28) and the ring means and interface pressures
+/// agree with the consistent matrix's to 1e-6.
+#[test]
+fn a_lumped_capacity_keeps_every_stage_inside_the_bounds() {
+    let run_with = |capacity| {
+        let mut o = MultilayerOptions::new(2, 6.4e-3, None).unwrap();
+        o.quiet = true;
+        o.capacity = capacity;
+        analyse(&o).unwrap()
+    };
+    let consistent = run_with(tecon_cli::case::Capacity::Consistent);
+    let lumped = run_with(tecon_cli::case::Capacity::Lumped);
+    for (c, l) in consistent.stages.iter().zip(&lumped.stages) {
+        let excursion = |s: &tecon_cli::multilayer::StageResult| {
+            s.bound_violation.as_ref().map_or(0.0, |b| b.excursion)
+        };
+        assert!(excursion(c) > 1.0, "stage {}: {}", c.layers, excursion(c));
+        assert_eq!(excursion(l), 0.0, "stage {}", l.layers);
+        for (a, b) in c.ring_means.iter().zip(&l.ring_means) {
+            assert!((a - b).abs() <= 1e-6 * a.abs().max(1.0), "{a} against {b}");
+        }
+        for (a, b) in c.pressures.iter().zip(&l.pressures) {
+            assert!((a - b).abs() <= 1e-6 * a.abs(), "{a} against {b}");
+        }
+    }
+}
