@@ -3,8 +3,8 @@
 
 use tecon_contact::nalgebra::Vector2;
 use tecon_contact::{
-    Augmentation, ContactLaw, ElasticJoint, GhaboussiNormal, JointState, LawResponse, LinearJoint,
-    PaperJoint,
+    Augmentation, ContactLaw, ElasticJoint, FrictionBound, GhaboussiNormal, JointState,
+    LawResponse, LinearJoint, PaperJoint,
 };
 
 /// The interface laws an elastic model can use.
@@ -16,6 +16,17 @@ pub enum Joint {
     Sticking(ElasticJoint<GhaboussiNormal>),
     /// The paper's joint: Ghaboussi normal law + Mohr–Coulomb friction.
     Frictional(PaperJoint),
+}
+
+impl Joint {
+    /// The same joint with a frictional law's slip limit taken as `bound`
+    /// says (the other laws have no slip limit and are unchanged).
+    pub fn with_friction_bound(&self, bound: FrictionBound) -> Joint {
+        match self {
+            Joint::Frictional(l) => Joint::Frictional(l.with_friction_bound(bound)),
+            other => other.clone(),
+        }
+    }
 }
 
 impl ContactLaw for Joint {

@@ -603,12 +603,7 @@ impl StaticSolver<'_> {
         let laws: Vec<Joint> = self
             .laws
             .iter()
-            .map(|l| match l {
-                Joint::Frictional(m) => {
-                    Joint::Frictional(m.with_friction_bound(FrictionBound::Frozen))
-                }
-                other => other.clone(),
-            })
+            .map(|j| j.with_friction_bound(FrictionBound::Frozen))
             .collect();
         let mut f = vec![0.0; u.len()];
         let mut kt = self.k_bulk.clone();

@@ -82,7 +82,14 @@ impl StaticSolver<'_> {
                             ));
                             Ok(r)
                         }
-                        Err(ElasticError::NotConverged { reason: why, .. }) => {
+                        Err(ElasticError::NotConverged {
+                            reason: why,
+                            history: coupled,
+                            ..
+                        }) => {
+                            // its iterations are failed work too (the
+                            // cut-back below counts the frozen attempt's)
+                            failed_iterations += coupled.len();
                             Err(ElasticError::NotConverged {
                                 number,
                                 from,
@@ -344,12 +351,7 @@ impl StaticSolver<'_> {
         let frozen_laws = self.laws.clone();
         self.laws = frozen_laws
             .iter()
-            .map(|j| match j {
-                Joint::Frictional(l) => {
-                    Joint::Frictional(l.with_friction_bound(FrictionBound::Coupled))
-                }
-                other => other.clone(),
-            })
+            .map(|j| j.with_friction_bound(FrictionBound::Coupled))
             .collect();
         let (bound, choice) = (self.options.friction_bound, self.condensed_choice);
         self.options.friction_bound = FrictionBound::Coupled;

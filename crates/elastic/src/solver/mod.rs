@@ -243,12 +243,7 @@ impl<'a> StaticSolver<'a> {
         let laws = model
             .interfaces
             .iter()
-            .map(|i| match &i.law {
-                Joint::Frictional(l) => {
-                    Joint::Frictional(l.with_friction_bound(options.friction_bound))
-                }
-                other => other.clone(),
-            })
+            .map(|i| i.law.with_friction_bound(options.friction_bound))
             .collect();
         Ok(StaticSolver {
             model,
