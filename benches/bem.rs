@@ -212,11 +212,37 @@ fn bench_sections(c: &mut Criterion) {
             sections::regular_polygon(2000, 1.0).expect("2000-gon"),
             1e-8,
         ),
+        (
+            "regular12",
+            sections::regular_polygon(12, 1.0).expect("12-gon"),
+            1e-10,
+        ),
+        (
+            "regular24",
+            sections::regular_polygon(24, 1.0).expect("24-gon"),
+            1e-10,
+        ),
     ];
     for (name, sec, tol) in &cases {
         g.bench_function(BenchmarkId::new("to_tolerance", name), |b| {
             b.iter(|| {
                 solve_to_tolerance(sec, &Options::default(), *tol, 4096)
+                    .map(|c| black_box(c.solution.torsional_rigidity))
+            })
+        });
+    }
+    // the same without folding by the rotational symmetry (the whole system)
+    for name in ["box", "regular12", "regular24"] {
+        let Some((_, sec, tol)) = cases.iter().find(|c| c.0 == name) else {
+            continue;
+        };
+        let whole = Options {
+            symmetry: false,
+            ..Options::default()
+        };
+        g.bench_function(BenchmarkId::new("to_tolerance_whole", name), |b| {
+            b.iter(|| {
+                solve_to_tolerance(sec, &whole, *tol, 4096)
                     .map(|c| black_box(c.solution.torsional_rigidity))
             })
         });

@@ -81,6 +81,12 @@ pub struct TorsionArgs {
     /// the zones halve the n that thin walls need)
     #[arg(long)]
     pub no_corner_zones: bool,
+    /// Solve the whole system even where the section has a rotational
+    /// symmetry (by default a boundary that a turn by 2π/k maps onto itself,
+    /// k = 2, 4, 8, …, is solved on one k-th of it: the same answer to
+    /// rounding; this is the cross-check)
+    #[arg(long)]
+    pub no_symmetry: bool,
     /// Sections with re-entrant corners or inward cusps (where τ is infinite):
     /// the largest boundary shear stress at least R from every such point is
     /// reported with its estimated error [default R: A/P, half the mean wall
@@ -181,6 +187,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
         linear: LinearSolver::Dense,
         corner_zones: !args.no_corner_zones,
         corner_distance: args.corner_distance,
+        symmetry: !args.no_symmetry,
     };
     let points = match &args.points {
         Some(p) => parse_points(p)?,
@@ -449,6 +456,12 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 z => format!(" (corner zones on {z} long panels)"),
             }
         );
+        if sol.symmetry_order > 1 {
+            say!(
+                "symmetry           {k}-fold rotation: solved on 1/{k} of each boundary curve",
+                k = sol.symmetry_order
+            );
+        }
         let pr = section.properties();
         say!("area               {:.15e}", section.area);
         say!(
@@ -606,6 +619,7 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
                 "wavelet": if method == Method::Daubechies { Some(format!("db{}", wavelet.order)) } else { None },
                 "grading": grading,
                 "corner_zone_panels": sol.zoned_panels(),
+                "symmetry_order": sol.symmetry_order,
                 "multiplier": js(sol.multiplier),
                 "converged": ctl.converged,
                 "tolerance": ctl.tol,

@@ -723,3 +723,23 @@ fn a_singular_section_reports_the_stress_away_from_its_corners() {
         assert!(!ok && err.contains("--corner-distance"), "{bad}: {err}");
     }
 }
+
+#[test]
+fn a_symmetric_section_is_solved_on_a_part_of_its_boundary_with_the_same_answers() {
+    let spec = ["--section", "box:w=2,h=1,t=0.1", "--tol", "1e-8"];
+    let folded = json(&spec);
+    let mut args = spec.to_vec();
+    args.push("--no-symmetry");
+    let whole = json(&args);
+    assert_eq!(folded["symmetry_order"], 2);
+    assert_eq!(whole["symmetry_order"], 1);
+    assert_eq!(folded["n"], whole["n"]);
+    let v = |d: &serde_json::Value, k: &str| d[k].as_f64().unwrap();
+    for key in ["torsional_rigidity", "warping_constant"] {
+        let (a, b) = (v(&folded, key), v(&whole, key));
+        assert!((a - b).abs() <= 1e-12 * b.abs(), "{key}: {a} vs {b}");
+    }
+    let (ok, out, _) = tecon(&["--section", "regular:n=12,r=1", "--tol", "1e-6"]);
+    assert!(ok);
+    assert!(out.contains("4-fold rotation"), "{out}");
+}

@@ -64,7 +64,14 @@ fn main() {
             .map(|cv| Parametrisation::new(cv, o.grading))
             .collect();
         let t0 = cpu();
-        let _ = galerkin::assemble(&sec, &params, l.n, Daubechies::new(order).unwrap()).unwrap();
+        let _ = galerkin::assemble_with(
+            &sec,
+            &params,
+            l.n,
+            Daubechies::new(order).unwrap(),
+            o.symmetry,
+        )
+        .unwrap();
         let ta = cpu() - t0;
         let t0 = cpu();
         let s = solve(&sec, &o).unwrap();

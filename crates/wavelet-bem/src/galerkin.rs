@@ -39,6 +39,12 @@ use std::sync::Arc;
 pub struct GalerkinSystem {
     /// scaling functions per curve
     pub n: usize,
+    /// the order k of the rotational symmetry the system is folded by
+    /// ([`crate::symmetry`]; 1: not folded) and its period m = n/k: the
+    /// matrix is of order K m and the vectors hold the first m entries of
+    /// each curve
+    pub fold: usize,
+    pub period: usize,
     /// number of curves K
     pub curves: usize,
     /// row-major symmetric N×N matrix A
@@ -188,6 +194,18 @@ pub fn assemble(
     n: usize,
     w: Daubechies,
 ) -> Result<GalerkinSystem, SolveError> {
+    assemble_with(section, params, n, w, false)
+}
+
+/// [`assemble`], folded by the rotational symmetry of the nodes when
+/// `fold` is set and the nodes have one ([`crate::symmetry`]).
+pub fn assemble_with(
+    section: &Section,
+    params: &[Parametrisation],
+    n: usize,
+    w: Daubechies,
+    fold: bool,
+) -> Result<GalerkinSystem, SolveError> {
     if !n.is_power_of_two() || n < w.min_n() {
         return Err(SolveError::BadN {
             n,
@@ -204,6 +222,14 @@ pub fn assemble(
     let big = nodes.len();
     let g2 = kernels::radius_sq(&nodes, x0);
     let p = projection_kernel(&w, n);
+    let k = if fold {
+        crate::symmetry::rotation_order(&nodes, n, x0, section.radius())
+    } else {
+        1
+    };
+    if k > 1 {
+        return Ok(assemble_folded(&nodes, n, k, &p, &g2, x0, w));
+    }
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut phat);
     let phat_n: Vec<Complex64> = phat.iter().map(|z| z / n as f64).collect();
@@ -244,6 +270,8 @@ pub fn assemble(
     let constraint = vec![1.0 / (n as f64).sqrt(); n];
     Ok(GalerkinSystem {
         n,
+        fold: 1,
+        period: n,
         curves: curves.len(),
         matrix: a,
         spare: m,
@@ -252,6 +280,64 @@ pub fn assemble(
         functional,
         wavelet: w,
     })
+}
+
+/// The system folded by a rotational symmetry of order `k` of the `nodes`
+/// (n per curve), from the projection kernel `p` and |x − x₀|² at the
+/// nodes (`g2`): see [`crate::symmetry`].
+fn assemble_folded(
+    nodes: &[crate::grading::BPoint],
+    n: usize,
+    k: usize,
+    p: &[f64],
+    g2: &[f64],
+    x0: crate::geometry::V2,
+    w: Daubechies,
+) -> GalerkinSystem {
+    use crate::symmetry::{first_periods, fold_kernel};
+    let m = n / k;
+    let curves = nodes.len() / n;
+    let small = curves * m;
+    let pf = fold_kernel(p, m);
+    let mut phat: Vec<Complex64> = pf.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+    FftPlanner::new().plan_fft_forward(m).process(&mut phat);
+    let phat_m: Vec<Complex64> = phat.iter().map(|z| z / m as f64).collect();
+    let (folded, f) = kernels::log_remainder_folded(nodes, n, m, x0);
+    let mut rows = vec![0.0; small * small];
+    convolve_gathered(&folded, &mut rows, small, &phat_m, |i| i, |_, _| {});
+    let mut a = folded;
+    let c = fold_kernel(&w.log_circulant(n), m);
+    let s = -1.0 / (2.0 * PI);
+    convolve_gathered(
+        &rows,
+        &mut a,
+        small,
+        &phat_m,
+        |_| small,
+        |i, row| {
+            let (bi, ii) = (i / m, i % m);
+            for (j, v) in row[bi * m..(bi + 1) * m].iter_mut().enumerate() {
+                *v += c[(ii + m - j) % m];
+            }
+            for v in row.iter_mut() {
+                *v *= s;
+            }
+        },
+    );
+    let load = convolve_blocks(&f, m, &phat);
+    let functional = convolve_blocks(&first_periods(g2, n, m), m, &phat);
+    GalerkinSystem {
+        n,
+        fold: k,
+        period: m,
+        curves,
+        matrix: a,
+        spare: rows,
+        load,
+        constraint: vec![1.0 / (n as f64).sqrt(); m],
+        functional,
+        wavelet: w,
+    }
 }
 
 /// Wavelet-basis matrix W A Wᵀ (row transforms, transpose, row transforms).
@@ -314,7 +400,13 @@ pub(crate) fn solve(
     let w = Daubechies::new(opts.wavelet_order)
         .ok_or_else(|| SolveError::BadWavelet(format!("db{}", opts.wavelet_order)))?;
     let n = opts.n;
-    let mut sys = assemble(section, params, n, w)?;
+    let mut sys = assemble_with(
+        section,
+        params,
+        n,
+        w,
+        opts.symmetry && opts.linear == LinearSolver::Dense,
+    )?;
     let kc = sys.curves;
     let (alpha, c, compression) = match opts.linear {
         LinearSolver::Dense => {
@@ -326,13 +418,14 @@ pub(crate) fn solve(
             let mut spare = std::mem::take(&mut sys.spare);
             // graded corners can leave the discrete matrix slightly indefinite: LU there
             let smooth = section.curves().iter().all(|c| !c.any_graded());
+            // folded: the shift term of the periodic vector is k times its period's
             let (x, c) = shifted_saddle_solve(
                 &mut matrix,
                 &mut spare,
-                n,
+                sys.period,
                 &sys.constraint,
                 &sys.load,
-                kappa,
+                kappa * sys.fold as f64,
                 smooth,
             )?;
             (x, c, None)
@@ -367,7 +460,18 @@ pub(crate) fn solve(
             (alpha, vec![c], Some(rep))
         }
     };
-    let j_integral: f64 = alpha.iter().zip(&sys.functional).map(|(a, b)| a * b).sum();
+    // a folded solution's functional: k times its period's
+    let j_integral: f64 = sys.fold as f64
+        * alpha
+            .iter()
+            .zip(&sys.functional)
+            .map(|(a, b)| a * b)
+            .sum::<f64>();
+    let alpha = if sys.fold > 1 {
+        crate::symmetry::unfold(&alpha, n, sys.period)
+    } else {
+        alpha
+    };
     // density per curve: μ̂(r) = 2^{−J/2} φ̂(r/n) α̂(r), |r| ≤ 3n/8
     let rmax = 3 * n / 8;
     let s = 1.0 / (n as f64).sqrt();
@@ -393,5 +497,6 @@ pub(crate) fn solve(
         multipliers: c,
         j_integral,
         compression,
+        fold: sys.fold,
     })
 }

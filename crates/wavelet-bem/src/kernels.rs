@@ -91,6 +91,115 @@ pub fn log_remainder_upper(nodes: &[BPoint], n: usize, x0: V2) -> (Vec<f64>, Vec
     (out, add_parts(&parts, n))
 }
 
+/// The folded log remainder of a boundary invariant under the shift by
+/// m = n/k nodes on each of its K curves (see [`crate::symmetry`]): the
+/// row-major K m × K m matrix L_f[(a,i),(b,j)] = Σ_q L[(a,i),(b,j+qm)]
+/// (i, j < m), and the right-hand side f at the first m nodes of each
+/// curve. Each row is computed whole (N logarithms, every pair (i, j) of
+/// the period's rows) and folded in a fixed order, one row per task, so
+/// the result does not depend on the number of threads. L_f is symmetric
+/// up to rounding; the caller uses its upper triangle.
+pub fn log_remainder_folded(nodes: &[BPoint], n: usize, m: usize, x0: V2) -> (Vec<f64>, Vec<f64>) {
+    let big = nodes.len();
+    let curves = big / n;
+    let small = curves * m;
+    let sines = log_sines(n);
+    let arrays = NodeArrays::new(nodes);
+    let mut out = vec![0.0; small * small];
+    let mut f = vec![0.0; small];
+    let h = 1.0 / n as f64;
+    out.par_chunks_mut(small)
+        .zip(f.par_iter_mut())
+        .enumerate()
+        .for_each_init(
+            || (vec![0.0; big], vec![0.0; big]),
+            |(row, terms), (r, (folded, fr))| {
+                let i = (r / m) * n + r % m;
+                let rows = FoldedRow {
+                    a: &arrays,
+                    n,
+                    m,
+                    sines: &sines,
+                    x0,
+                    i,
+                };
+                #[cfg(target_arch = "x86_64")]
+                if crate::logarithm::has_avx2() {
+                    // SAFETY: the CPU has AVX2, the only feature it is compiled for
+                    *fr = unsafe { rows.fill_avx2(row, terms, folded) } * h;
+                    return;
+                }
+                *fr = rows.fill(row, terms, folded) * h;
+            },
+        );
+    (out, f)
+}
+
+/// One row of [`log_remainder_folded`].
+struct FoldedRow<'a> {
+    a: &'a NodeArrays,
+    n: usize,
+    m: usize,
+    sines: &'a [f64],
+    x0: V2,
+    /// the row's node
+    i: usize,
+}
+
+impl FoldedRow<'_> {
+    /// Fills `folded` (K m entries) from the whole row (`row`, N entries of
+    /// work) and returns the row's right-hand-side sum (before the weight
+    /// 1/n); `terms` is work space.
+    #[inline(always)]
+    fn fill(&self, row: &mut [f64], terms: &mut [f64], folded: &mut [f64]) -> f64 {
+        let (a, i, n, m) = (self.a, self.i, self.n, self.m);
+        let big = a.len();
+        let (pxi, pyi, x0) = (a.px[i], a.py[i], self.x0);
+        for j in 0..big {
+            let (dx, dy) = a.diff(i, j);
+            let rr = dx * dx + dy * dy;
+            row[j] = rr.max(f64::MIN_POSITIVE);
+            let w = -0.5
+                * (dx * (pxi + a.px[j] - 2.0 * x0[0]) + dy * (pyi + a.py[j] - 2.0 * x0[1]))
+                / (2.0 * PI * rr);
+            // coincident nodes (and j = i) add nothing
+            let w = if rr > 0.0 { w } else { 0.0 };
+            terms[j] = w * (dx * a.ty[j] - dy * a.tx[j]);
+        }
+        let fi = sum_lanes(terms);
+        crate::logarithm::ln_slice(row);
+        let (start, ii) = ((i / n) * n, i % n);
+        for v in row.iter_mut() {
+            *v *= 0.5;
+        }
+        // ln|2 sin π(t_i − t_j)| on i's own curve (index |i − j|, as the
+        // full matrix's triangles)
+        let own = &mut row[start..start + n];
+        for (jj, v) in own.iter_mut().enumerate() {
+            if jj != ii {
+                *v -= self.sines[ii.abs_diff(jj)];
+            }
+        }
+        let speed = a.tx[i].hypot(a.ty[i]);
+        own[ii] = (speed / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+        for (blk, out) in row.chunks(n).zip(folded.chunks_mut(m)) {
+            out.copy_from_slice(&blk[..m]);
+            for period in blk.chunks(m).skip(1) {
+                for (o, v) in out.iter_mut().zip(period) {
+                    *o += v;
+                }
+            }
+        }
+        fi
+    }
+    /// [`FoldedRow::fill`] compiled for AVX2 (the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn fill_avx2(&self, row: &mut [f64], terms: &mut [f64], folded: &mut [f64]) -> f64 {
+        self.fill(row, terms, folded)
+    }
+}
+
 /// A block of rows of [`log_remainder_upper`], from row `first` on.
 struct UpperRows<'a> {
     a: &'a NodeArrays,

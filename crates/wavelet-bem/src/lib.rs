@@ -77,6 +77,7 @@ pub mod quadrature;
 pub mod sections;
 pub mod shannon;
 pub mod solve;
+pub mod symmetry;
 pub mod warping;
 
 pub use control::{Controlled, solve_to_tolerance, solve_with_estimate};

@@ -266,5 +266,6 @@ pub(crate) fn solve(
         multipliers: sol[kc * dim..].to_vec(),
         j_integral,
         compression: None,
+        fold: 1,
     })
 }

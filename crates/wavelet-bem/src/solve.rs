@@ -72,6 +72,11 @@ pub struct Options {
     /// stress is reported and controlled, [`MaxShear::away`] (None: the
     /// section's [`Section::default_corner_distance`])
     pub corner_distance: Option<f64>,
+    /// Daubechies with the dense solver: fold the system by the rotational
+    /// symmetry of the discrete boundary where it has one
+    /// ([`crate::symmetry`]; the same solution to rounding, at a fraction
+    /// of the cost); false solves the whole system (a cross-check)
+    pub symmetry: bool,
 }
 
 impl Default for Options {
@@ -84,6 +89,7 @@ impl Default for Options {
             linear: LinearSolver::Dense,
             corner_zones: true,
             corner_distance: None,
+            symmetry: true,
         }
     }
 }
@@ -200,6 +206,9 @@ pub struct TorsionSolution {
     pub centroid: V2,
     /// the solution on each hole boundary (same order as `section.holes`)
     pub holes: Vec<HoleSolution>,
+    /// the order k of the rotational symmetry the system was folded by
+    /// (1: solved whole; see [`crate::symmetry`])
+    pub symmetry_order: usize,
 }
 
 /// The solution on one hole boundary.
@@ -219,6 +228,8 @@ pub(crate) struct RawSolution {
     pub densities: Vec<FourierDensity>,
     pub multipliers: Vec<f64>,
     pub j_integral: f64,
+    /// the rotational symmetry order the system was folded by (1: none)
+    pub fold: usize,
     pub compression: Option<CompressionReport>,
 }
 
@@ -292,6 +303,7 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
                 multipliers: c,
                 j_integral: ji,
                 compression: None,
+                fold: 1,
             }
         }
         Method::Daubechies => galerkin::solve(section, &params, opts)?,
@@ -325,6 +337,7 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
         compression: raw.compression,
         centroid: x0,
         holes,
+        symmetry_order: raw.fold,
     })
 }
 

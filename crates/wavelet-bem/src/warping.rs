@@ -202,11 +202,39 @@ impl Nodes {
     }
 }
 
-/// ∫ ω² dA by the Φ double integral (see the module notes).
-fn omega_squared_integral(nd: &Nodes) -> f64 {
+/// ∫ ω² dA by the Φ double integral (see the module notes). With `fold`
+/// k > 1 the nodes and ω are invariant under the shift by m/k nodes on
+/// every curve (a k-fold rotation about the centroid, see
+/// [`crate::symmetry`]): ψ and χ are then invariant too, and only the rows
+/// of each curve's first m/k nodes are summed, whole, and counted k times.
+fn omega_squared_integral(nd: &Nodes, fold: usize) -> f64 {
     let m = nd.m;
     let big = nd.pts.len();
     let pairs = OmegaPairs::new(nd);
+    let h = 1.0 / m as f64;
+    if fold > 1 {
+        let period = m / fold;
+        let rows: Vec<usize> = (0..big / m).flat_map(|c| c * m..c * m + period).collect();
+        let terms: Vec<f64> = rows
+            .par_iter()
+            .map_init(
+                || vec![vec![0.0; big]; 5],
+                |work, &i| {
+                    #[cfg(target_arch = "x86_64")]
+                    let (psi, chi) = if crate::logarithm::has_avx2() {
+                        // SAFETY: the CPU has AVX2, the only feature it is compiled for
+                        unsafe { pairs.full_row_avx2(i, work) }
+                    } else {
+                        pairs.full_row(i, work)
+                    };
+                    #[cfg(not(target_arch = "x86_64"))]
+                    let (psi, chi) = pairs.full_row(i, work);
+                    (nd.omega[i] * chi - psi * nd.flux[i]) * pairs.speeds[i] * h
+                },
+            )
+            .collect();
+        return fold as f64 * terms.iter().sum::<f64>();
+    }
     // Every kernel depends on the pair through r², ln r and the two normal
     // projections of x_i − x_j, and swapping i and j swaps the projections
     // (d·n_i ↔ −d·n_j): each pair i < j is evaluated once (one logarithm)
@@ -235,7 +263,6 @@ fn omega_squared_integral(nd: &Nodes) -> f64 {
             chi[k] += c[k];
         }
     }
-    let h = 1.0 / m as f64;
     (0..big)
         .map(|i| (nd.omega[i] * chi[i] - psi[i] * nd.flux[i]) * pairs.speeds[i] * h)
         .sum()
@@ -368,6 +395,62 @@ impl OmegaPairs {
         (psi, chi)
     }
 
+    /// (ψ_i, χ_i) of row i summed over every node j ≠ i: the terms of
+    /// [`OmegaPairs::rows`] for row i, whichever of i and j comes first
+    /// (the kernels are symmetric in the pair: swapping i and j swaps the
+    /// normal projections and negates d). `work`: five arrays of N.
+    #[inline(always)]
+    fn full_row(&self, i: usize, work: &mut [Vec<f64>]) -> (f64, f64) {
+        let (m, r, sines) = (self.m, &self.r, &self.sines);
+        let big = self.arrays.len();
+        let h = 1.0 / m as f64;
+        let c8 = 1.0 / (8.0 * PI);
+        let (qs, ws) = (&self.qs, &self.ws);
+        let [dx, dy, lnr, own_psi, own_chi] = work else {
+            unreachable!("five work arrays")
+        };
+        let l = (self.speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+        let diag_chi = -(h * (-(1.0 - 2.0 * l) * c8) * ws[i] + r[0] * (2.0 * c8) * ws[i]);
+        for j in 0..big {
+            (dx[j], dy[j]) = self.arrays.diff(i, j);
+            lnr[j] = (dx[j] * dx[j] + dy[j] * dy[j]).max(f64::MIN_POSITIVE);
+        }
+        crate::logarithm::ln_slice(lnr);
+        let (start, ii) = ((i / m) * m, i % m);
+        // the other curves: A only, L = ln r
+        for j in (0..start).chain(start + m..big) {
+            let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j]);
+            own_psi[j] = t.psi_i;
+            own_chi[j] = t.chi_i;
+        }
+        // i's own curve: A and B, Kress's weight R((t_i − t_j) mod 1)
+        for j in start..start + m {
+            let jj = j - start;
+            if jj == ii {
+                own_psi[j] = 0.0;
+                own_chi[j] = 0.0;
+                continue;
+            }
+            let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j] - sines[ii.abs_diff(jj)]);
+            let (qj, wj) = (qs[j], ws[j]);
+            let wr = r[(ii + m - jj) % m];
+            let b_phi = -t.r2 * c8;
+            let b_dny = 2.0 * t.dny * c8;
+            let b_dnx = -2.0 * t.dnx * c8;
+            let b_dd = 2.0 * t.nn * c8;
+            own_psi[j] = t.psi_i + wr * (b_phi * qj - b_dny * wj);
+            own_chi[j] = t.chi_i + wr * (b_dnx * qj - b_dd * wj);
+        }
+        (sum_lanes(own_psi), sum_lanes(own_chi) + diag_chi)
+    }
+
+    /// [`OmegaPairs::full_row`] compiled for AVX2 (the same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn full_row_avx2(&self, i: usize, work: &mut [Vec<f64>]) -> (f64, f64) {
+        self.full_row(i, work)
+    }
+
     /// [`OmegaPairs::rows`] compiled for AVX2 (the same bits).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
@@ -491,7 +574,14 @@ impl TorsionSolution {
             let dy = x[1] - x0[1];
             0.5 * w * dy * dy * n[1] - dy.powi(3) / 6.0 * q
         });
-        let iww = omega_squared_integral(&nd);
+        // the solve's rotational symmetry, where these nodes have it too
+        let fold = if self.symmetry_order > 1 {
+            let order = crate::symmetry::rotation_order(&nd.pts, m, x0, sec.radius());
+            self.symmetry_order.min(order)
+        } else {
+            1
+        };
+        let iww = omega_squared_integral(&nd, fold);
         let props = sec.properties();
         let delta = props.ixx * props.iyy - props.ixy * props.ixy;
         let xp = (props.ixy * ixw - props.iyy * iyw) / delta;
