@@ -18,7 +18,7 @@ use crate::plot::{ColouredPath, LinePlot, Series};
 use serde_json::json;
 use std::io::Write;
 use std::path::PathBuf;
-use tecon_wavelet_bem::control::DEFAULT_N_MAX;
+use tecon_wavelet_bem::control::default_max_n;
 use tecon_wavelet_bem::daubechies::Daubechies;
 use tecon_wavelet_bem::{
     LinearSolver, Method, Options, sections, solve, solve_to_tolerance, solve_with_estimate,
@@ -56,9 +56,11 @@ pub struct TorsionArgs {
     /// two resolutions agree)
     #[arg(long, default_value_t = 1e-8, allow_hyphen_values = true)]
     pub tol: f64,
-    /// Largest n the error control may use (dense solves: n = 4096 takes seconds)
-    #[arg(long, default_value_t = DEFAULT_N_MAX)]
-    pub max_n: usize,
+    /// Largest n the error control may use [default: 4096 (dense solves: n = 4096 takes
+    /// seconds), up to 8192 where a rotational symmetry of the section keeps the order of
+    /// the folded system n/k within 4096]
+    #[arg(long)]
+    pub max_n: Option<usize>,
     /// Print an unconverged result and exit 0 (it is still flagged `converged: false`)
     #[arg(long)]
     pub allow_unconverged: bool,
@@ -211,7 +213,12 @@ pub fn run(args: TorsionArgs) -> Result<Vec<String>, BoxErr> {
     }
     let ctl = match args.n {
         Some(_) => solve_with_estimate(&section, &opts, args.tol)?,
-        None => solve_to_tolerance(&section, &opts, args.tol, args.max_n)?,
+        None => solve_to_tolerance(
+            &section,
+            &opts,
+            args.tol,
+            args.max_n.unwrap_or_else(|| default_max_n(&section, &opts)),
+        )?,
     };
     let sol = &ctl.solution;
     let n = sol.options.n;

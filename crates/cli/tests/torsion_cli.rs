@@ -743,3 +743,22 @@ fn a_symmetric_section_is_solved_on_a_part_of_its_boundary_with_the_same_answers
     assert!(ok);
     assert!(out.contains("4-fold rotation"), "{out}");
 }
+
+#[test]
+fn a_folded_section_may_refine_past_the_usual_largest_n() {
+    // the regular 64-gon needs n = 8192 for 1e-10; folded by its 64-fold
+    // rotation that is a system of order 128, so the default --max-n allows it
+    let v = json(&["--section", "regular:n=64,r=1", "--tol", "1e-10"]);
+    assert_eq!(v["converged"], true);
+    assert_eq!(v["n"], 8192);
+    assert_eq!(v["symmetry_order"], 64);
+    // solved whole, the default stays 4096: flagged, exit status 2
+    let (ok, _, err) = tecon(&[
+        "--section",
+        "regular:n=64,r=1",
+        "--tol",
+        "1e-10",
+        "--no-symmetry",
+    ]);
+    assert!(!ok && err.contains("raise --max-n"), "{err}");
+}

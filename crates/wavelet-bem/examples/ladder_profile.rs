@@ -69,7 +69,7 @@ fn main() {
             &params,
             l.n,
             Daubechies::new(order).unwrap(),
-            o.symmetry,
+            tecon_wavelet_bem::solve::symmetry_order(&sec, &o),
         )
         .unwrap();
         let ta = cpu() - t0;

@@ -230,6 +230,25 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
 /// Largest n the dense solvers are run at by default (a dense order-4096 solve takes seconds).
 pub const DEFAULT_N_MAX: usize = 4096;
 
+/// Largest n a solve accepts (dense matrices: 8192² doubles are 0.5 GB).
+pub const HARD_N_MAX: usize = 1 << 13;
+
+/// The default largest n for `section`: [`DEFAULT_N_MAX`], or up to
+/// [`HARD_N_MAX`] where the system is folded by a rotational symmetry
+/// ([`crate::symmetry`]) so that its order per curve, n/k, stays within
+/// [`DEFAULT_N_MAX`] (the regular 64-gon reaches 1e-10 at n = 8192, a
+/// folded order of 128).
+pub fn default_max_n(section: &Section, opts: &Options) -> usize {
+    let mut n = DEFAULT_N_MAX;
+    while 2 * n <= HARD_N_MAX
+        && 2 * n / crate::solve::symmetry_order(section, &Options { n: 2 * n, ..*opts })
+            <= DEFAULT_N_MAX
+    {
+        n *= 2;
+    }
+    n
+}
+
 fn rel(a: f64, b: f64) -> f64 {
     let s = a.abs().max(b.abs());
     if s == 0.0 { 0.0 } else { (a - b).abs() / s }
@@ -731,14 +750,18 @@ pub fn solve_to_tolerance(
     } else {
         n_max.next_power_of_two() / 2
     };
-    while n_max / 2 >= min_n(opts) && crate::memory::check(opts.method, curves, n_max).is_err() {
+    // (a folded system is of order K n/k)
+    let order = |n: usize| n / crate::solve::symmetry_order(section, &Options { n, ..*opts });
+    while n_max / 2 >= min_n(opts)
+        && crate::memory::check(opts.method, curves, order(n_max)).is_err()
+    {
         n_max /= 2;
     }
     let memory_note = (n_max < requested_max).then(|| {
         format!(
             "at most n = {n_max} per curve fits in the memory available (n = {} on {curves} curve(s) would need about {:.1} GB)",
             2 * n_max,
-            crate::memory::dense_bytes(opts.method, curves, 2 * n_max) as f64 / 1e9
+            crate::memory::dense_bytes(opts.method, curves, order(2 * n_max)) as f64 / 1e9
         )
     });
     let n0 = starting_n(section, opts).max(opts.n);

@@ -194,17 +194,18 @@ pub fn assemble(
     n: usize,
     w: Daubechies,
 ) -> Result<GalerkinSystem, SolveError> {
-    assemble_with(section, params, n, w, false)
+    assemble_with(section, params, n, w, 1)
 }
 
-/// [`assemble`], folded by the rotational symmetry of the nodes when
-/// `fold` is set and the nodes have one ([`crate::symmetry`]).
+/// [`assemble`], folded by a rotational symmetry of order `fold` (1: not
+/// folded) that the nodes must have ([`crate::symmetry::rotation_order`]
+/// at least `fold`; checked, an error otherwise).
 pub fn assemble_with(
     section: &Section,
     params: &[Parametrisation],
     n: usize,
     w: Daubechies,
-    fold: bool,
+    fold: usize,
 ) -> Result<GalerkinSystem, SolveError> {
     if !n.is_power_of_two() || n < w.min_n() {
         return Err(SolveError::BadN {
@@ -222,13 +223,17 @@ pub fn assemble_with(
     let big = nodes.len();
     let g2 = kernels::radius_sq(&nodes, x0);
     let p = projection_kernel(&w, n);
-    let k = if fold {
-        crate::symmetry::rotation_order(&nodes, n, x0, section.radius())
-    } else {
-        1
-    };
-    if k > 1 {
-        return Ok(assemble_folded(&nodes, n, k, &p, &g2, x0, w));
+    if fold > 1 {
+        let order = crate::symmetry::rotation_order(&nodes, n, x0, section.radius());
+        if !(fold.is_power_of_two() && order.is_multiple_of(fold)) {
+            return Err(SolveError::BadN {
+                n,
+                reason: format!(
+                    "the nodes have a rotational symmetry of order {order}, not {fold}"
+                ),
+            });
+        }
+        return Ok(assemble_folded(&nodes, n, fold, &p, &g2, x0, w));
     }
     let mut phat: Vec<Complex64> = p.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     FftPlanner::new().plan_fft_forward(n).process(&mut phat);
@@ -396,17 +401,12 @@ pub(crate) fn solve(
     section: &Section,
     params: &[Parametrisation],
     opts: &Options,
+    fold: usize,
 ) -> Result<RawSolution, SolveError> {
     let w = Daubechies::new(opts.wavelet_order)
         .ok_or_else(|| SolveError::BadWavelet(format!("db{}", opts.wavelet_order)))?;
     let n = opts.n;
-    let mut sys = assemble_with(
-        section,
-        params,
-        n,
-        w,
-        opts.symmetry && opts.linear == LinearSolver::Dense,
-    )?;
+    let mut sys = assemble_with(section, params, n, w, fold)?;
     let kc = sys.curves;
     let (alpha, c, compression) = match opts.linear {
         LinearSolver::Dense => {

@@ -238,13 +238,54 @@ pub(crate) struct RawSolution {
 /// ∝ L², the J integral ∝ L⁴) within the normal range of double precision.
 const POLAR_MOMENT_RANGE: (f64, f64) = (1e-300, 1e300);
 
+/// The graded parametrisation of every curve of `section` (outer first)
+/// that a solve with `opts` uses.
+fn parametrisations(section: &Section, opts: &Options) -> Vec<Parametrisation> {
+    // corner zones (a flat panel middle for thin walls): Daubechies only,
+    // whose error control was measured with them
+    let walls = match opts.method {
+        Method::Daubechies if opts.corner_zones => crate::grading::zone_walls(section),
+        _ => None,
+    };
+    section
+        .curves()
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            Parametrisation::with_zones(c, opts.grading, walls.as_ref().map(|w| w[i].as_slice()))
+        })
+        .collect()
+}
+
+/// The order k of the rotational symmetry a solve folds its system by
+/// (1: none, or not the dense Daubechies solver, or `opts.symmetry` off).
+fn fold_order(section: &Section, params: &[Parametrisation], opts: &Options) -> usize {
+    if !(opts.symmetry && opts.method == Method::Daubechies && opts.linear == LinearSolver::Dense) {
+        return 1;
+    }
+    let nodes: Vec<BPoint> = section
+        .curves()
+        .iter()
+        .zip(params)
+        .flat_map(|(c, p)| p.nodes(c, opts.n))
+        .collect();
+    crate::symmetry::rotation_order(&nodes, opts.n, section.centroid, section.radius())
+}
+
+/// The order k of the rotational symmetry that a solve of `section` with
+/// `opts` (at `opts.n`) folds its system by, 1 if none: its dense matrix is
+/// of order K n/k (see [`crate::symmetry`]).
+pub fn symmetry_order(section: &Section, opts: &Options) -> usize {
+    fold_order(section, &parametrisations(section, opts), opts)
+}
+
 /// Solves Saint-Venant torsion (Gθ = 1) of `section`.
 pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, SolveError> {
     if !(opts.grading >= 2.0 && opts.grading <= 12.0 && opts.grading.fract() == 0.0) {
         return Err(SolveError::BadGrading(opts.grading));
     }
     // dense n×n work arrays: 8192² doubles are 0.5 GB each
-    if opts.n < 8 || opts.n > 1 << 13 {
+    if opts.n < 8 || opts.n > crate::control::HARD_N_MAX {
         return Err(SolveError::BadN {
             n: opts.n,
             reason: "need 8 ≤ n ≤ 8192 (dense matrices)".into(),
@@ -266,21 +307,11 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
         return Err(SolveError::Scale { polar_moment: ip });
     }
     let curves = section.curves();
-    // refuse what cannot fit before anything of size n² is allocated
-    crate::memory::check(opts.method, curves.len(), opts.n)?;
-    // corner zones (a flat panel middle for thin walls): Daubechies only,
-    // whose error control was measured with them
-    let walls = match opts.method {
-        Method::Daubechies if opts.corner_zones => crate::grading::zone_walls(section),
-        _ => None,
-    };
-    let params: Vec<Parametrisation> = curves
-        .iter()
-        .enumerate()
-        .map(|(i, c)| {
-            Parametrisation::with_zones(c, opts.grading, walls.as_ref().map(|w| w[i].as_slice()))
-        })
-        .collect();
+    let params = parametrisations(section, opts);
+    let fold = fold_order(section, &params, opts);
+    // refuse what cannot fit before anything of size n² is allocated (a
+    // folded system is of order K n/k)
+    crate::memory::check(opts.method, curves.len(), opts.n / fold)?;
     let x0 = section.centroid;
     let raw = match opts.method {
         Method::Nystrom => {
@@ -306,7 +337,7 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
                 fold: 1,
             }
         }
-        Method::Daubechies => galerkin::solve(section, &params, opts)?,
+        Method::Daubechies => galerkin::solve(section, &params, opts, fold)?,
         Method::Shannon => shannon::solve(section, &params, opts)?,
     };
     let ip = section.polar_moment();
