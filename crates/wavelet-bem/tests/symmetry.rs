@@ -46,6 +46,11 @@ fn folded_and_whole_solves_agree() {
             sections::hollow_rectangle(2.0, 1.0, 0.1, 0.05).unwrap(),
             2,
         ),
+        (
+            "square box",
+            sections::hollow_rectangle(1.0, 1.0, 0.1, 0.1).unwrap(),
+            4,
+        ),
     ];
     for (name, sec, expect) in cases {
         for n in [128usize, 512] {
