@@ -762,3 +762,55 @@ fn a_folded_section_may_refine_past_the_usual_largest_n() {
     ]);
     assert!(!ok && err.contains("raise --max-n"), "{err}");
 }
+
+/// Elliptic pieces in section files: the hollow ellipse between similar
+/// ellipses (inner one k times the outer) has the solid ellipse's stress
+/// function, constant on the inner ellipse, so J = π a³b³/(a² + b²) (1 − k⁴),
+/// τ_max = 2a²b/(a² + b²), the hole constant a²b²(1 − k²)/(a² + b²), the
+/// warping function −(a² − b²)/(a² + b²) xy and Γ = that factor squared
+/// times π a³b³ (1 − k⁶)/24.
+#[test]
+fn a_hollow_ellipse_file_matches_the_closed_forms() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("hollow_ellipse.toml");
+    let ellipse = |a: f64, b: f64| {
+        format!(
+            "kind = \"ellipse\"\ncenter = [0.0, 0.0]\na = {a}\nb = {b}\nstart_deg = 0.0\nend_deg = 360.0\n"
+        )
+    };
+    let (a, b, k) = (2.0f64, 1.0f64, 0.6f64);
+    std::fs::write(
+        &f,
+        format!(
+            "[[piece]]\n{}[[hole]]\n[[hole.piece]]\n{}",
+            ellipse(a, b),
+            ellipse(k * a, k * b)
+        ),
+    )
+    .unwrap();
+    let v = json(&["--section", f.to_str().unwrap(), "--tol", "1e-10"]);
+    let s = a * a + b * b;
+    let j = PI * a.powi(3) * b.powi(3) / s * (1.0 - k.powi(4));
+    let tau = 2.0 * a * a * b / s;
+    let c = a * a * b * b * (1.0 - k * k) / s;
+    let gamma =
+        ((a * a - b * b) / s).powi(2) * PI * a.powi(3) * b.powi(3) * (1.0 - k.powi(6)) / 24.0;
+    let got = |key: &str| v[key].as_f64().unwrap();
+    let rel = |x: f64, y: f64| (x - y).abs() / y.abs();
+    assert!(rel(got("torsional_rigidity"), j) < 1e-12, "{v}");
+    assert!(rel(got("max_shear_stress"), tau) < 1e-12, "{v}");
+    assert!(rel(got("warping_constant"), gamma) < 1e-12, "{v}");
+    let hole = v["holes"][0]["stress_function"].as_f64().unwrap();
+    assert!(rel(hole, c) < 1e-12, "{v}");
+    // a bad semi-axis names its field
+    std::fs::write(
+        &f,
+        format!(
+            "[[piece]]\n{}",
+            ellipse(2.0, 1.0).replace("b = 1", "b = -1")
+        ),
+    )
+    .unwrap();
+    let (ok, _, err) = tecon(&["--section", f.to_str().unwrap()]);
+    assert!(!ok && err.contains("piece[0].b"), "{err}");
+}

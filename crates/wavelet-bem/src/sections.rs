@@ -20,6 +20,9 @@
 //! start_deg = 0.0
 //! end_deg = 90.0
 //! ```
+//! and `kind = "ellipse"`: `center`, semi-axes `a` and `b`, optional
+//! `rotation_deg` of the a axis, and the parameter angles `start_deg`,
+//! `end_deg` of x = c + R (a cos t, b sin t).
 
 use crate::error::{GeometryError, SpecError};
 use crate::geometry::{Piece, Section, V2};
@@ -549,6 +552,9 @@ struct FilePiece {
     radius: Option<f64>,
     start_deg: Option<f64>,
     end_deg: Option<f64>,
+    a: Option<f64>,
+    b: Option<f64>,
+    rotation_deg: Option<f64>,
 }
 
 #[derive(serde::Deserialize)]
@@ -639,12 +645,34 @@ fn chain(
                             theta1: needf(fp.end_deg, "end_deg")?.to_radians(),
                         })
                     }
+                    "ellipse" => {
+                        let positive = |v: f64, f: &str| {
+                            if v.is_finite() && v > 0.0 {
+                                Ok(v)
+                            } else {
+                                Err(bad(
+                                    kind,
+                                    &format!("{at}piece[{i}].{f}"),
+                                    &v.to_string(),
+                                    "must be a positive length",
+                                ))
+                            }
+                        };
+                        out.push(Piece::Ellipse {
+                            center: need(fp.center, "center")?,
+                            a: positive(needf(fp.a, "a")?, "a")?,
+                            b: positive(needf(fp.b, "b")?, "b")?,
+                            rotation: fp.rotation_deg.unwrap_or(0.0).to_radians(),
+                            t0: needf(fp.start_deg, "start_deg")?.to_radians(),
+                            t1: needf(fp.end_deg, "end_deg")?.to_radians(),
+                        })
+                    }
                     other => {
                         return Err(bad(
                             kind,
                             &format!("{at}piece[{i}].kind"),
                             other,
-                            "expected \"segment\" or \"arc\"",
+                            "expected \"segment\", \"arc\" or \"ellipse\"",
                         ));
                     }
                 }
