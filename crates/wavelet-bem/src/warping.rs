@@ -328,6 +328,21 @@ struct PairTerms {
     nn: f64,
 }
 
+impl PairTerms {
+    /// The coefficients of ln|2 sin π(t − s)| (the B terms, weighted by
+    /// Kress's R) of the four kernels: Φ, ∂Φ/∂n_j, ∂Φ/∂n_i, ∂²Φ/∂n_i∂n_j.
+    #[inline(always)]
+    fn singular(&self) -> [f64; 4] {
+        let c8 = 1.0 / (8.0 * PI);
+        [
+            -self.r2 * c8,
+            2.0 * self.dny * c8,
+            -2.0 * self.dnx * c8,
+            2.0 * self.nn * c8,
+        ]
+    }
+}
+
 impl OmegaPairs {
     /// (ψ, χ) of the pairs (i, j > i) for the rows i in `rows` (both rows'
     /// terms), one vector each over all nodes.
@@ -372,10 +387,7 @@ impl OmegaPairs {
                 let k = j - i;
                 let wr_i = self.r_back[k];
                 let wr_j = r[k];
-                let b_phi = -t.r2 * c8;
-                let b_dny = 2.0 * t.dny * c8;
-                let b_dnx = -2.0 * t.dnx * c8;
-                let b_dd = 2.0 * t.nn * c8;
+                let [b_phi, b_dny, b_dnx, b_dd] = t.singular();
                 own_psi[j] = t.psi_i + wr_i * (b_phi * qj - b_dny * wj);
                 own_chi[j] = t.chi_i + wr_i * (b_dnx * qj - b_dd * wj);
                 psi[j] += t.psi_j + wr_j * (b_phi * qi - b_dnx * wi);
@@ -434,10 +446,7 @@ impl OmegaPairs {
             let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j] - sines[ii.abs_diff(jj)]);
             let (qj, wj) = (qs[j], ws[j]);
             let wr = r[(ii + m - jj) % m];
-            let b_phi = -t.r2 * c8;
-            let b_dny = 2.0 * t.dny * c8;
-            let b_dnx = -2.0 * t.dnx * c8;
-            let b_dd = 2.0 * t.nn * c8;
+            let [b_phi, b_dny, b_dnx, b_dd] = t.singular();
             own_psi[j] = t.psi_i + wr * (b_phi * qj - b_dny * wj);
             own_chi[j] = t.chi_i + wr * (b_dnx * qj - b_dd * wj);
         }
