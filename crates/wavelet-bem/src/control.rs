@@ -230,17 +230,14 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
 /// Largest n the dense solvers are run at by default (a dense order-4096 solve takes seconds).
 pub const DEFAULT_N_MAX: usize = 4096;
 
-/// Largest n a solve accepts (dense matrices: 8192² doubles are 0.5 GB).
-pub const HARD_N_MAX: usize = 1 << 13;
-
 /// The default largest n for `section`: [`DEFAULT_N_MAX`], or up to
-/// [`HARD_N_MAX`] where the system is folded by a rotational symmetry
+/// [`crate::solve::HARD_N_MAX`] where the system is folded by a rotational symmetry
 /// ([`crate::symmetry`]) so that its order per curve, n/k, stays within
 /// [`DEFAULT_N_MAX`] (the regular 64-gon reaches 1e-10 at n = 8192, a
 /// folded order of 128).
 pub fn default_max_n(section: &Section, opts: &Options) -> usize {
     let mut n = DEFAULT_N_MAX;
-    while 2 * n <= HARD_N_MAX
+    while 2 * n <= crate::solve::HARD_N_MAX
         && 2 * n / crate::solve::symmetry_order(section, &Options { n: 2 * n, ..*opts })
             <= DEFAULT_N_MAX
     {

@@ -238,6 +238,9 @@ pub(crate) struct RawSolution {
 /// ∝ L², the J integral ∝ L⁴) within the normal range of double precision.
 const POLAR_MOMENT_RANGE: (f64, f64) = (1e-300, 1e300);
 
+/// Largest n a solve accepts (dense matrices: 8192² doubles are 0.5 GB).
+pub const HARD_N_MAX: usize = 1 << 13;
+
 /// The graded parametrisation of every curve of `section` (outer first)
 /// that a solve with `opts` uses.
 fn parametrisations(section: &Section, opts: &Options) -> Vec<Parametrisation> {
@@ -285,7 +288,7 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
         return Err(SolveError::BadGrading(opts.grading));
     }
     // dense n×n work arrays: 8192² doubles are 0.5 GB each
-    if opts.n < 8 || opts.n > crate::control::HARD_N_MAX {
+    if opts.n < 8 || opts.n > HARD_N_MAX {
         return Err(SolveError::BadN {
             n: opts.n,
             reason: "need 8 ≤ n ≤ 8192 (dense matrices)".into(),
