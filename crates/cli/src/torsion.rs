@@ -64,7 +64,8 @@ pub struct TorsionArgs {
     /// Print an unconverged result and exit 0 (it is still flagged `converged: false`)
     #[arg(long)]
     pub allow_unconverged: bool,
-    /// Experts: fixed number of unknowns per boundary curve (a power of two for daubechies);
+    /// Experts: fixed number of unknowns per boundary curve (daubechies: an even n, usually a
+    /// power of two);
     /// the error estimate then comes from a second solve at n/2
     #[arg(long)]
     pub n: Option<usize>,

@@ -741,7 +741,7 @@ fn a_symmetric_section_is_solved_on_a_part_of_its_boundary_with_the_same_answers
     }
     let (ok, out, _) = tecon(&["--section", "regular:n=12,r=1", "--tol", "1e-6"]);
     assert!(ok);
-    assert!(out.contains("4-fold rotation"), "{out}");
+    assert!(out.contains("12-fold rotation"), "{out}");
 }
 
 #[test]

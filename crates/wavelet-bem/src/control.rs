@@ -170,6 +170,11 @@ fn min_n(opts: &Options) -> usize {
 /// along each curve (4 on curves without grading for Shannon and Nyström;
 /// none for the Daubechies method, whose estimates resolve smooth walls).
 pub fn starting_n(section: &Section, opts: &Options) -> usize {
+    starting_nodes(section, opts).next_power_of_two()
+}
+
+/// [`starting_n`] before it is rounded up to a rung of the ladder.
+fn starting_nodes(section: &Section, opts: &Options) -> usize {
     let mut n = min_n(opts).max(64);
     for curve in section.curves() {
         let m = curve.pieces.len();
@@ -224,7 +229,63 @@ pub fn starting_n(section: &Section, opts: &Options) -> usize {
     for curve in section.curves() {
         n = n.max((per_thickness * curve.perimeter() / thick).min(1e9) as usize);
     }
-    n.next_power_of_two()
+    n
+}
+
+/// The odd factor q of the ladder's resolutions n = q 2^j: the largest odd
+/// d > 1 dividing the number of pieces of the outer boundary such that the
+/// nodes at n = 64 d are turned onto themselves by a rotation whose order
+/// is a multiple of d (a regular 25-gon: 25, so that a shift by n/25
+/// nodes is its rotation by 2π/25 and the system folds to order n/25 or
+/// less; see [`crate::symmetry`] and [`Parametrisation::exact_for`]); 1
+/// otherwise, and always for other methods than the dense Daubechies one
+/// or with `opts.symmetry` off. The Daubechies Galerkin method takes any
+/// even n; powers of two fold only by rotations of order 2, 4, 8, ….
+///
+/// [`Parametrisation::exact_for`]: crate::grading::Parametrisation::exact_for
+pub fn rung_base(section: &Section, opts: &Options) -> usize {
+    if !(opts.symmetry
+        && opts.method == Method::Daubechies
+        && opts.linear == crate::solve::LinearSolver::Dense)
+    {
+        return 1;
+    }
+    let outer = section.curves()[0];
+    // nearly flat polygons are parametrised by arc length, never exactly
+    if outer.nearly_smooth_polygon() {
+        return 1;
+    }
+    let pieces = outer.pieces.len();
+    (3..=pieces)
+        .rev()
+        .filter(|d| d % 2 == 1 && pieces.is_multiple_of(*d))
+        .find(|&d| {
+            let n = 64 * d;
+            crate::solve::symmetry_order(section, &Options { n, ..*opts }).is_multiple_of(d)
+        })
+        .unwrap_or(1)
+}
+
+/// The resolutions q 2^j of a ladder with odd factor q.
+#[derive(Clone, Copy)]
+struct Rungs {
+    q: usize,
+}
+
+impl Rungs {
+    /// The smallest rung ≥ n.
+    fn at_least(self, n: usize) -> usize {
+        let mut r = self.q;
+        while r < n {
+            r *= 2;
+        }
+        r
+    }
+    /// The largest rung ≤ n (the smallest rung if none is).
+    fn at_most(self, n: usize) -> usize {
+        let r = self.at_least(n);
+        if r > n && r > self.q { r / 2 } else { r }
+    }
 }
 
 /// Largest n the dense solvers are run at by default (a dense order-4096 solve takes seconds).
@@ -741,12 +802,17 @@ pub fn solve_to_tolerance(
     // the largest n whose dense solve fits in the memory available now
     let curves = section.curves().len();
     let requested_max = n_max;
-    // a power of two: every rung is one
-    let mut n_max = if n_max.is_power_of_two() {
-        n_max
-    } else {
-        n_max.next_power_of_two() / 2
+    // every rung is q 2^j: a power of two, or with the odd factor of a
+    // rotational symmetry (if its ladder has room for two rungs)
+    let odd = Rungs {
+        q: rung_base(section, opts),
     };
+    let rungs = if odd.q > 1 && odd.at_most(n_max) >= 2 * odd.at_least(min_n(opts)) {
+        odd
+    } else {
+        Rungs { q: 1 }
+    };
+    let mut n_max = rungs.at_most(n_max);
     // (a folded system is of order K n/k)
     let order = |n: usize| n / crate::solve::symmetry_order(section, &Options { n, ..*opts });
     while n_max / 2 >= min_n(opts)
@@ -761,7 +827,7 @@ pub fn solve_to_tolerance(
             crate::memory::dense_bytes(opts.method, curves, order(2 * n_max)) as f64 / 1e9
         )
     });
-    let n0 = starting_n(section, opts).max(opts.n);
+    let n0 = rungs.at_least(starting_nodes(section, opts).max(opts.n));
     let mut start_warning = None;
     if n0 > n_max {
         start_warning = Some(format!(
@@ -772,7 +838,7 @@ pub fn solve_to_tolerance(
     // the ladder starts two rungs below so that the estimate at n0 can use
     // the rate of three rungs (the rung n0/4 costs 1/64 of n0's solve)
     let accept_from = n0.min(n_max);
-    let mut n = (n0 / 4).min(n_max / 2).max(min_n(opts));
+    let mut n = (n0 / 4).min(n_max / 2).max(rungs.at_least(min_n(opts)));
     let with_start = |mut c: Controlled| {
         if let Some(w) = &start_warning {
             c.warnings.push(w.clone());

@@ -207,10 +207,10 @@ pub fn assemble_with(
     w: Daubechies,
     fold: usize,
 ) -> Result<GalerkinSystem, SolveError> {
-    if !n.is_power_of_two() || n < w.min_n() {
+    if !n.is_multiple_of(2) || n < w.min_n() {
         return Err(SolveError::BadN {
             n,
-            reason: format!("db{} needs n = 2^J ≥ {}", w.order, w.min_n()),
+            reason: format!("db{} needs an even n ≥ {}", w.order, w.min_n()),
         });
     }
     let x0 = section.centroid;
@@ -225,7 +225,7 @@ pub fn assemble_with(
     let p = projection_kernel(&w, n);
     if fold > 1 {
         let order = crate::symmetry::rotation_order(&nodes, n, x0, section.radius());
-        if !(fold.is_power_of_two() && order.is_multiple_of(fold)) {
+        if !(n.is_multiple_of(fold) && order.is_multiple_of(fold)) {
             return Err(SolveError::BadN {
                 n,
                 reason: format!(

@@ -344,6 +344,10 @@ pub struct Parametrisation {
     /// the corner-zone map of a graded panel, where it replaces Kress's
     zones: Vec<Option<Arc<ZoneMap>>>,
     anchors: Vec<V2>,
+    /// Some(m): the breaks are exactly k/m (pieces of equal length, see
+    /// [`Parametrisation::exact_for`]), and the nodes of an n divisible by
+    /// m take their panel coordinates from their indices
+    uniform: Option<usize>,
 }
 
 impl Parametrisation {
@@ -387,7 +391,34 @@ impl Parametrisation {
             grading,
             zones: vec![None; m],
             anchors,
+            uniform: None,
         }
+    }
+
+    /// For `n` nodes that are not a power of two (the rungs q 2^j of a
+    /// section with a rotational symmetry of odd order q, see
+    /// [`crate::control::rung_base`]): on a curve of m pieces of equal
+    /// length with m dividing n, the breaks become exactly k/m (instead of
+    /// multiples of 2^−20, which keep the panel coordinates of dyadic
+    /// nodes exact) and every panel holds n/m nodes whose panel coordinates
+    /// (i + ½)/(n/m) come from their indices: the same on every panel, so
+    /// that a rotation of the section by 2π/m is a shift by n/m nodes to
+    /// round-off. Otherwise unchanged.
+    pub fn exact_for(mut self, section: &Section, n: usize) -> Parametrisation {
+        let m = section.pieces.len();
+        if n.is_power_of_two() || m < 2 || !n.is_multiple_of(m) {
+            return self;
+        }
+        let lens: Vec<f64> = section.pieces.iter().map(|q| q.length()).collect();
+        let (lo, hi) = lens.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
+            (lo.min(l), hi.max(l))
+        });
+        if !(hi > 0.0 && hi - lo <= 1e-12 * hi) || section.nearly_smooth_polygon() {
+            return self;
+        }
+        self.breaks = (0..=m).map(|k| k as f64 / m as f64).collect();
+        self.uniform = Some(m);
+        self
     }
 
     /// [`Parametrisation::new`] with corner zones: with `walls = Some(d)`
@@ -467,16 +498,22 @@ impl Parametrisation {
     pub fn eval(&self, section: &Section, t: f64) -> BPoint {
         let t = t.rem_euclid(1.0);
         let k = self.panel(t);
-        let m = self.breaks.len() - 1;
         let (b0, b1) = (self.breaks[k], self.breaks[k + 1]);
         let db = b1 - b0;
-        let piece = &section.pieces[k];
         let s0 = (t - b0) / db;
         let (end, sig) = if s0 <= 0.5 {
             (End::Start, s0)
         } else {
             (End::End, (b1 - t) / db)
         };
+        self.eval_local(section, k, end, sig, db)
+    }
+
+    /// The point of panel k (parameter length `db`) at the coordinate
+    /// `sig` ≤ ½ from its end `end`.
+    fn eval_local(&self, section: &Section, k: usize, end: End, sig: f64, db: f64) -> BPoint {
+        let m = self.breaks.len() - 1;
+        let piece = &section.pieces[k];
         let (om, dw, ddw) = self.panel_map(k, sig);
         // dw/ds for the global direction: w = ω near the start, w = 1 − ω(σ) with σ = 1 − s near the end
         let ddw = if end == End::Start { ddw } else { -ddw };
@@ -501,6 +538,21 @@ impl Parametrisation {
 
     /// The half-shifted nodes t_j = (j + ½)/n evaluated on the boundary.
     pub fn nodes(&self, section: &Section, n: usize) -> Vec<BPoint> {
+        if let Some(m) = self.uniform.filter(|m| n.is_multiple_of(*m)) {
+            // n/m nodes per panel, their coordinates from their indices
+            let per = n / m;
+            let (pf, db) = (per as f64, 1.0 / m as f64);
+            return (0..n)
+                .map(|j| {
+                    let (k, i) = (j / per, j % per);
+                    if 2 * i < per {
+                        self.eval_local(section, k, End::Start, (i as f64 + 0.5) / pf, db)
+                    } else {
+                        self.eval_local(section, k, End::End, ((per - i) as f64 - 0.5) / pf, db)
+                    }
+                })
+                .collect();
+        }
         (0..n)
             .map(|j| self.eval(section, (j as f64 + 0.5) / n as f64))
             .collect()

@@ -255,7 +255,17 @@ fn parametrisations(section: &Section, opts: &Options) -> Vec<Parametrisation> {
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            Parametrisation::with_zones(c, opts.grading, walls.as_ref().map(|w| w[i].as_slice()))
+            let p = Parametrisation::with_zones(
+                c,
+                opts.grading,
+                walls.as_ref().map(|w| w[i].as_slice()),
+            );
+            // the rungs q 2^j of an odd rotational symmetry: exact panels
+            if opts.method == Method::Daubechies {
+                p.exact_for(c, opts.n)
+            } else {
+                p
+            }
         })
         .collect()
 }

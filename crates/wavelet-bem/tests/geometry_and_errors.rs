@@ -375,13 +375,25 @@ fn graded_nodes_keep_relative_precision_at_corners() {
 fn solver_options_are_validated() {
     let sec = sections::circle(1.0).unwrap();
     let bad = |o: Options| solve(&sec, &o).unwrap_err();
+    // Daubechies takes any even n from its smallest (the rungs q 2^j of
+    // an odd rotational symmetry), not an odd one
     assert!(matches!(
         bad(Options {
-            n: 100,
+            n: 101,
             ..Options::default()
         }),
-        SolveError::BadN { n: 100, .. }
+        SolveError::BadN { n: 101, .. }
     ));
+    let circle_j = std::f64::consts::PI / 2.0;
+    let at_100 = solve(
+        &sec,
+        &Options {
+            n: 100,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    assert!((at_100.torsional_rigidity - circle_j).abs() < 1e-13);
     assert!(matches!(
         bad(Options {
             n: 32,

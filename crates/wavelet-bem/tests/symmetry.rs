@@ -12,7 +12,7 @@ fn order_of(sec: &Section, n: usize) -> usize {
     let params: Vec<Parametrisation> = sec
         .curves()
         .iter()
-        .map(|c| Parametrisation::with_zones(c, 8.0, None))
+        .map(|c| Parametrisation::with_zones(c, 8.0, None).exact_for(c, n))
         .collect();
     let nodes: Vec<_> = sec
         .curves()
@@ -195,4 +195,90 @@ fn only_symmetric_boundaries_are_folded() {
     )
     .unwrap();
     assert_eq!(sq.symmetry_order, 1);
+}
+
+/// Odd rotational symmetries: at n = q 2^j the panels of equal pieces are
+/// exact (`Parametrisation::exact_for`) and a shift by n/N nodes turns a
+/// regular N-gon by 2π/N; folded and whole solves agree, and the ladder
+/// runs on the rungs q 2^j with estimates that bound the true errors.
+#[test]
+fn odd_rotations_fold_on_their_own_rungs() {
+    for (name, sec, n, order) in [
+        ("triangle", sections::triangle(1.0).unwrap(), 192, 3),
+        (
+            "hexagon",
+            sections::regular_polygon(6, 1.0).unwrap(),
+            192,
+            6,
+        ),
+        ("9-gon", sections::regular_polygon(9, 1.0).unwrap(), 576, 9),
+        (
+            "25-gon",
+            sections::regular_polygon(25, 1.0).unwrap(),
+            800,
+            25,
+        ),
+    ] {
+        assert_eq!(order_of(&sec, n), order, "{name}");
+        let whole = solve(
+            &sec,
+            &Options {
+                n,
+                symmetry: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let folded = solve(
+            &sec,
+            &Options {
+                n,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(folded.symmetry_order, order, "{name}");
+        let dj =
+            (whole.torsional_rigidity - folded.torsional_rigidity).abs() / whole.torsional_rigidity;
+        assert!(dj < 1e-13, "{name}: J differs by {dj:e}");
+        // at a power of two the panels stay dyadic: only the rotations of
+        // order 2, 4, … remain (the hexagon's half turn)
+        let dyadic = if order == 6 { 2 } else { 1 };
+        assert_eq!(order_of(&sec, 512), dyadic, "{name}");
+    }
+    // the ladder of the 25-gon: rungs 25·2^j; its estimates against the
+    // solution at n = 6400 (256 nodes per side)
+    let sec = sections::regular_polygon(25, 1.0).unwrap();
+    assert_eq!(control::rung_base(&sec, &Options::default()), 25);
+    let reference = solve(
+        &sec,
+        &Options {
+            n: 6400,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let tau_ref = reference.max_shear().value.unwrap();
+    for tol in [1e-6, 1e-8, 1e-10] {
+        let c = control::solve_to_tolerance(&sec, &Options::default(), tol, 4096).unwrap();
+        let n = c.solution.options.n;
+        assert!(
+            n.is_multiple_of(25) && (n / 25).is_power_of_two(),
+            "n = {n}"
+        );
+        assert!(c.converged, "tol {tol:e}");
+        let ej = (c.solution.torsional_rigidity - reference.torsional_rigidity).abs()
+            / reference.torsional_rigidity;
+        let et = (c.solution.max_shear().value.unwrap() - tau_ref).abs() / tau_ref;
+        assert!(
+            ej <= c.j_error,
+            "tol {tol:e}: J off by {ej:e}, estimate {:e}",
+            c.j_error
+        );
+        let tau_est = c.tau_error.unwrap();
+        assert!(
+            et <= tau_est,
+            "tol {tol:e}: τ off by {et:e}, estimate {tau_est:e}"
+        );
+    }
 }
