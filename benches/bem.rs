@@ -222,6 +222,11 @@ fn bench_sections(c: &mut Criterion) {
             sections::regular_polygon(24, 1.0).expect("24-gon"),
             1e-10,
         ),
+        (
+            "regular25",
+            sections::regular_polygon(25, 1.0).expect("25-gon"),
+            1e-10,
+        ),
     ];
     for (name, sec, tol) in &cases {
         g.bench_function(BenchmarkId::new("to_tolerance", name), |b| {
@@ -232,7 +237,7 @@ fn bench_sections(c: &mut Criterion) {
         });
     }
     // the same without folding by the rotational symmetry (the whole system)
-    for name in ["box", "regular12", "regular24"] {
+    for name in ["box", "regular12", "regular24", "regular25"] {
         let Some((_, sec, tol)) = cases.iter().find(|c| c.0 == name) else {
             continue;
         };
