@@ -23,6 +23,37 @@ fn order_of(sec: &Section, n: usize) -> usize {
     symmetry::rotation_order(&nodes, n, sec.centroid, sec.radius())
 }
 
+/// The solves of `sec` at n whole and folded, and their relative J difference.
+fn whole_and_folded(
+    sec: &Section,
+    n: usize,
+) -> (
+    tecon_wavelet_bem::solve::TorsionSolution,
+    tecon_wavelet_bem::solve::TorsionSolution,
+    f64,
+) {
+    let whole = solve(
+        sec,
+        &Options {
+            n,
+            symmetry: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let folded = solve(
+        sec,
+        &Options {
+            n,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let dj =
+        (whole.torsional_rigidity - folded.torsional_rigidity).abs() / whole.torsional_rigidity;
+    (whole, folded, dj)
+}
+
 #[test]
 fn folded_and_whole_solves_agree() {
     let cases: Vec<(&str, Section, usize)> = vec![
@@ -56,25 +87,7 @@ fn folded_and_whole_solves_agree() {
         for n in [128usize, 512] {
             let k = order_of(&sec, n);
             println!("{name} n = {n}: order {k}");
-            let whole = solve(
-                &sec,
-                &Options {
-                    n,
-                    symmetry: false,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-            let folded = solve(
-                &sec,
-                &Options {
-                    n,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-            let dj = (whole.torsional_rigidity - folded.torsional_rigidity).abs()
-                / whole.torsional_rigidity;
+            let (whole, folded, dj) = whole_and_folded(&sec, n);
             let (tw, tf) = (whole.max_shear().value, folded.max_shear().value);
             println!(
                 "  J {:.15e} vs {:.15e}: {dj:.2e}; tau {tw:?} vs {tf:?}",
@@ -220,26 +233,8 @@ fn odd_rotations_fold_on_their_own_rungs() {
         ),
     ] {
         assert_eq!(order_of(&sec, n), order, "{name}");
-        let whole = solve(
-            &sec,
-            &Options {
-                n,
-                symmetry: false,
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let folded = solve(
-            &sec,
-            &Options {
-                n,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (_, folded, dj) = whole_and_folded(&sec, n);
         assert_eq!(folded.symmetry_order, order, "{name}");
-        let dj =
-            (whole.torsional_rigidity - folded.torsional_rigidity).abs() / whole.torsional_rigidity;
         assert!(dj < 1e-13, "{name}: J differs by {dj:e}");
         // at a power of two the panels stay dyadic: only the rotations of
         // order 2, 4, … remain (the hexagon's half turn)
