@@ -761,6 +761,11 @@ fn a_folded_section_may_refine_past_the_usual_largest_n() {
         "--no-symmetry",
     ]);
     assert!(!ok && err.contains("raise --max-n"), "{err}");
+    // an odd order runs on rungs q 2^j, past 8192 where n/k allows it
+    let v = json(&["--section", "regular:n=75,r=1", "--tol", "1e-10"]);
+    assert_eq!(v["converged"], true);
+    assert_eq!(v["n"], 9600);
+    assert_eq!(v["symmetry_order"], 75);
 }
 
 /// Elliptic pieces in section files: the hollow ellipse between similar

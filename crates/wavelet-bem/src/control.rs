@@ -291,14 +291,18 @@ impl Rungs {
 /// Largest n the dense solvers are run at by default (a dense order-4096 solve takes seconds).
 pub const DEFAULT_N_MAX: usize = 4096;
 
-/// The default largest n for `section`: [`DEFAULT_N_MAX`], or up to
-/// [`crate::solve::HARD_N_MAX`] where the system is folded by a rotational symmetry
-/// ([`crate::symmetry`]) so that its order per curve, n/k, stays within
-/// [`DEFAULT_N_MAX`] (the regular 64-gon reaches 1e-10 at n = 8192, a
-/// folded order of 128).
+/// The default largest n for `section`: the largest rung (see
+/// [`rung_base`]) up to [`DEFAULT_N_MAX`], or up to
+/// [`crate::solve::FOLDED_N_MAX`] where the system is folded by a
+/// rotational symmetry ([`crate::symmetry`]) so that its order per curve,
+/// n/k, stays within [`DEFAULT_N_MAX`] (the regular 64-gon reaches 1e-10
+/// at n = 8192, a folded order of 128; the 96-gon at 12 288).
 pub fn default_max_n(section: &Section, opts: &Options) -> usize {
-    let mut n = DEFAULT_N_MAX;
-    while 2 * n <= crate::solve::HARD_N_MAX
+    let rungs = Rungs {
+        q: rung_base(section, opts),
+    };
+    let mut n = rungs.at_most(DEFAULT_N_MAX);
+    while 2 * n <= crate::solve::FOLDED_N_MAX
         && 2 * n / crate::solve::symmetry_order(section, &Options { n: 2 * n, ..*opts })
             <= DEFAULT_N_MAX
     {

@@ -238,8 +238,14 @@ pub(crate) struct RawSolution {
 /// ∝ L², the J integral ∝ L⁴) within the normal range of double precision.
 const POLAR_MOMENT_RANGE: (f64, f64) = (1e-300, 1e300);
 
-/// Largest n a solve accepts (dense matrices: 8192² doubles are 0.5 GB).
+/// Largest order per curve of a solve's dense matrix, n/k for a system
+/// folded by a k-fold rotation (8192² doubles are 0.5 GB).
 pub const HARD_N_MAX: usize = 1 << 13;
+
+/// Largest n a solve accepts at all (the boundary arrays and the density
+/// evaluations are O(n) and O(n log n); a folded system's matrix is
+/// smaller than n², see [`HARD_N_MAX`]).
+pub const FOLDED_N_MAX: usize = 1 << 14;
 
 /// The graded parametrisation of every curve of `section` (outer first)
 /// that a solve with `opts` uses.
@@ -297,11 +303,14 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
     if !(opts.grading >= 2.0 && opts.grading <= 12.0 && opts.grading.fract() == 0.0) {
         return Err(SolveError::BadGrading(opts.grading));
     }
-    // dense n×n work arrays: 8192² doubles are 0.5 GB each
-    if opts.n < 8 || opts.n > HARD_N_MAX {
+    // dense n×n work arrays: 8192² doubles are 0.5 GB each (a folded
+    // system's are n/k × n/k, checked below)
+    if opts.n < 8 || opts.n > FOLDED_N_MAX {
         return Err(SolveError::BadN {
             n: opts.n,
-            reason: "need 8 ≤ n ≤ 8192 (dense matrices)".into(),
+            reason: format!(
+                "need 8 ≤ n ≤ {HARD_N_MAX} (dense matrices; up to {FOLDED_N_MAX} for a section solved on a part of its boundary by its rotational symmetry)"
+            ),
         });
     }
     // J is about the polar moment (∝ L⁴): refuse a size whose J leaves the
@@ -322,6 +331,18 @@ pub fn solve(section: &Section, opts: &Options) -> Result<TorsionSolution, Solve
     let curves = section.curves();
     let params = parametrisations(section, opts);
     let fold = fold_order(section, &params, opts);
+    if opts.n / fold > HARD_N_MAX {
+        return Err(SolveError::BadN {
+            n: opts.n,
+            reason: if fold > 1 {
+                format!(
+                    "need n/k ≤ {HARD_N_MAX} (dense matrices of order n/k: this section folds by its {fold}-fold rotation)"
+                )
+            } else {
+                format!("need 8 ≤ n ≤ {HARD_N_MAX} (dense matrices)")
+            },
+        });
+    }
     // refuse what cannot fit before anything of size n² is allocated (a
     // folded system is of order K n/k)
     crate::memory::check(opts.method, curves.len(), opts.n / fold)?;
