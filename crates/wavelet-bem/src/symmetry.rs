@@ -23,8 +23,9 @@
 //! Cost: the rows of the first period only (m N logarithms instead of
 //! N²/2), convolutions of length m, and a factorisation of order K m: a
 //! regular 24-gon at n = 4096 (k = 8) factorises a 512 × 512 matrix.
-//! Only rotations by 2π/k with k a power of two can be used (n is one),
-//! and only those that map the nodes onto nodes; reflections cannot (the
+//! Only rotations that map the nodes onto nodes can be used: of order 2,
+//! 4, 8, … on the usual rungs n = 2^j, of odd order q on the rungs
+//! n = q 2^j of [`crate::control::rung_base`]; reflections cannot (the
 //! Daubechies scaling functions are not symmetric). The shift is tested on
 //! the nodes themselves, so a section is folded only when its discrete
 //! boundary is symmetric to round-off: the anchors and positions to
