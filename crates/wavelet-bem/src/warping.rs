@@ -218,7 +218,7 @@ fn omega_squared_integral(nd: &Nodes, fold: usize) -> f64 {
         let terms: Vec<f64> = rows
             .par_iter()
             .map_init(
-                || vec![vec![0.0; big]; 5],
+                || RowWork::new(big),
                 |work, &i| {
                     #[cfg(target_arch = "x86_64")]
                     let (psi, chi) = if crate::logarithm::has_avx2() {
@@ -311,6 +311,27 @@ impl OmegaPairs {
             qs: nd.flux.iter().zip(&speeds).map(|(q, s)| q * s).collect(),
             ws: nd.omega.iter().zip(&speeds).map(|(w, s)| w * s).collect(),
             speeds,
+        }
+    }
+}
+
+/// Work arrays of [`OmegaPairs::full_row`], one entry per node.
+struct RowWork {
+    dx: Vec<f64>,
+    dy: Vec<f64>,
+    lnr: Vec<f64>,
+    own_psi: Vec<f64>,
+    own_chi: Vec<f64>,
+}
+
+impl RowWork {
+    fn new(big: usize) -> RowWork {
+        RowWork {
+            dx: vec![0.0; big],
+            dy: vec![0.0; big],
+            lnr: vec![0.0; big],
+            own_psi: vec![0.0; big],
+            own_chi: vec![0.0; big],
         }
     }
 }
@@ -410,17 +431,21 @@ impl OmegaPairs {
     /// (ψ_i, χ_i) of row i summed over every node j ≠ i: the terms of
     /// [`OmegaPairs::rows`] for row i, whichever of i and j comes first
     /// (the kernels are symmetric in the pair: swapping i and j swaps the
-    /// normal projections and negates d). `work`: five arrays of N.
+    /// normal projections and negates d).
     #[inline(always)]
-    fn full_row(&self, i: usize, work: &mut [Vec<f64>]) -> (f64, f64) {
+    fn full_row(&self, i: usize, work: &mut RowWork) -> (f64, f64) {
         let (m, r, sines) = (self.m, &self.r, &self.sines);
         let big = self.arrays.len();
         let h = 1.0 / m as f64;
         let c8 = 1.0 / (8.0 * PI);
         let (qs, ws) = (&self.qs, &self.ws);
-        let [dx, dy, lnr, own_psi, own_chi] = work else {
-            unreachable!("five work arrays")
-        };
+        let RowWork {
+            dx,
+            dy,
+            lnr,
+            own_psi,
+            own_chi,
+        } = work;
         let l = (self.speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
         let diag_chi = -(h * (-(1.0 - 2.0 * l) * c8) * ws[i] + r[0] * (2.0 * c8) * ws[i]);
         for j in 0..big {
@@ -456,7 +481,7 @@ impl OmegaPairs {
     /// [`OmegaPairs::full_row`] compiled for AVX2 (the same bits).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn full_row_avx2(&self, i: usize, work: &mut [Vec<f64>]) -> (f64, f64) {
+    fn full_row_avx2(&self, i: usize, work: &mut RowWork) -> (f64, f64) {
         self.full_row(i, work)
     }
 
