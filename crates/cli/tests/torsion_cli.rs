@@ -819,3 +819,18 @@ fn a_hollow_ellipse_file_matches_the_closed_forms() {
     let (ok, _, err) = tecon(&["--section", f.to_str().unwrap()]);
     assert!(!ok && err.contains("piece[0].b"), "{err}");
 }
+
+/// A largest n that is not a rung (3000 for a power-of-two ladder, 4096 for
+/// the 25-gon's rungs 25·2^j) caps the ladder at the rung below it; that is
+/// not a lack of memory and the warning does not say it is.
+#[test]
+fn a_cap_between_rungs_is_not_blamed_on_memory() {
+    for (spec, max_n) in [("rectangle:w=1,h=1", "3000"), ("regular:n=25,r=1", "4096")] {
+        let (ok, _, err) = tecon(&["--section", spec, "--tol", "1e-14", "--max-n", max_n]);
+        assert!(
+            !ok && err.contains("the largest n allowed was reached"),
+            "{err}"
+        );
+        assert!(!err.contains("fits in the memory"), "{spec}: {err}");
+    }
+}

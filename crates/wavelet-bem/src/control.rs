@@ -805,7 +805,6 @@ pub fn solve_to_tolerance(
     };
     // the largest n whose dense solve fits in the memory available now
     let curves = section.curves().len();
-    let requested_max = n_max;
     // every rung is q 2^j: a power of two, or with the odd factor of a
     // rotational symmetry (if its ladder has room for two rungs)
     let odd = Rungs {
@@ -817,6 +816,8 @@ pub fn solve_to_tolerance(
         Rungs { q: 1 }
     };
     let mut n_max = rungs.at_most(n_max);
+    // the largest rung allowed: below it only for lack of memory
+    let top = n_max;
     // (a folded system is of order K n/k)
     let order = |n: usize| n / crate::solve::symmetry_order(section, &Options { n, ..*opts });
     while n_max / 2 >= min_n(opts)
@@ -824,7 +825,7 @@ pub fn solve_to_tolerance(
     {
         n_max /= 2;
     }
-    let memory_note = (n_max < requested_max).then(|| {
+    let memory_note = (n_max < top).then(|| {
         format!(
             "at most n = {n_max} per curve fits in the memory available (n = {} on {curves} curve(s) would need about {:.1} GB)",
             2 * n_max,
