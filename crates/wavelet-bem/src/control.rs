@@ -32,6 +32,8 @@
 //! n² work with logarithms) is computed only once the estimates of J and
 //! τ_max meet the tolerance, and only for the rungs of that estimate.
 
+use std::borrow::Cow;
+
 use crate::error::SolveError;
 use crate::geometry::Section;
 use crate::solve::{MaxShear, Method, Options, TorsionSolution, solve};
@@ -266,6 +268,44 @@ pub fn rung_base(section: &Section, opts: &Options) -> usize {
         .unwrap_or(1)
 }
 
+/// `section` as the ladder solves it with `opts`: a
+/// [`Section::flat_polygon`] (a 2000-gon) whose turn by 2π/N, N its number
+/// of edges, maps its graded nodes onto themselves is solved with every
+/// vertex graded ([`Section::with_flat_vertices_graded`]): the system folds
+/// to n/N unknowns, one edge, and the vertices are resolved like those of
+/// any polygon (the regular 2000-gon reaches 1e-10 at n = 128 000, 64
+/// nodes per edge, instead of being flagged with τ_max about 7e-4 off at
+/// n = 2048). Otherwise (no such rotation, holes, `--no-symmetry`, other
+/// methods) `section` itself: grading 2000 vertices of a system solved
+/// whole would take n ≥ 64 000, and it keeps the arc-length
+/// parametrisation and the floors of [`flat_vertex_floors`].
+pub fn prepared<'a>(section: &'a Section, opts: &Options) -> Cow<'a, Section> {
+    let foldable = opts.symmetry
+        && opts.method == Method::Daubechies
+        && opts.linear == crate::solve::LinearSolver::Dense;
+    if !foldable || !section.holes.is_empty() || !section.nearly_smooth_polygon() {
+        return Cow::Borrowed(section);
+    }
+    let m = section.pieces.len();
+    let lens: Vec<f64> = section.pieces.iter().map(|p| p.length()).collect();
+    let (lo, hi) = lens.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
+        (lo.min(l), hi.max(l))
+    });
+    if !(hi > 0.0 && hi - lo <= 1e-12 * hi) {
+        return Cow::Borrowed(section);
+    }
+    let graded = section.with_flat_vertices_graded();
+    // 16 nodes per edge: every edge a panel, the breaks exactly k/N
+    let n = 16 * m;
+    if n <= crate::solve::FOLDED_N_MAX
+        && crate::solve::symmetry_order(&graded, &Options { n, ..*opts }).is_multiple_of(m)
+    {
+        Cow::Owned(graded)
+    } else {
+        Cow::Borrowed(section)
+    }
+}
+
 /// The resolutions q 2^j of a ladder with odd factor q.
 #[derive(Clone, Copy)]
 struct Rungs {
@@ -298,18 +338,25 @@ pub const DEFAULT_N_MAX: usize = 4096;
 /// n/k, stays within [`DEFAULT_N_MAX`] (the regular 64-gon reaches 1e-10
 /// at n = 8192, a folded order of 128; the 96-gon at 12 288).
 pub fn default_max_n(section: &Section, opts: &Options) -> usize {
+    let prepared = prepared(section, opts);
+    let section = &*prepared;
     let rungs = Rungs {
         q: rung_base(section, opts),
     };
     let mut n = rungs.at_most(DEFAULT_N_MAX);
-    while 2 * n <= crate::solve::FOLDED_N_MAX
-        && 2 * n / crate::solve::symmetry_order(section, &Options { n: 2 * n, ..*opts })
-            <= DEFAULT_N_MAX
-    {
+    while 2 * n <= crate::solve::FOLDED_N_MAX && {
+        let order = 2 * n / crate::solve::symmetry_order(section, &Options { n: 2 * n, ..*opts });
+        order <= DEFAULT_N_MAX && order * 2 * n <= DEFAULT_WORK
+    } {
         n *= 2;
     }
     n
 }
+
+/// Largest n/k × n (the logarithms of a folded assembly per curve pair)
+/// of the default largest n: that of n = 16 384 folded to 4096, about a
+/// second (the regular 2000-gon may go to n = 256 000, folded to 128).
+const DEFAULT_WORK: usize = 4096 * 16384;
 
 fn rel(a: f64, b: f64) -> f64 {
     let s = a.abs().max(b.abs());
@@ -753,6 +800,8 @@ pub fn solve_with_estimate(
     opts: &Options,
     tol: f64,
 ) -> Result<Controlled, SolveError> {
+    let prepared = prepared(section, opts);
+    let section = &*prepared;
     let fine = solve_level(section, opts)?;
     let half = opts.n / 2;
     if half < min_n(opts) {
@@ -780,6 +829,8 @@ pub fn solve_to_tolerance(
     tol: f64,
     n_max: usize,
 ) -> Result<Controlled, SolveError> {
+    let prepared = prepared(section, opts);
+    let section = &*prepared;
     if !(tol > 0.0 && tol < 1.0) {
         return Err(SolveError::BadN {
             n: opts.n,

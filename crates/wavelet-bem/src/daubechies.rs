@@ -401,6 +401,11 @@ impl Daubechies {
                 let inv = 1.0 / (nf * nf);
                 let mut pw = inv;
                 for k in 1..mm.len() / 2 {
+                    // the moments below 2N vanish exactly: their terms are 0
+                    if mm[2 * k] == 0.0 {
+                        pw *= inv;
+                        continue;
+                    }
                     let term = mm[2 * k] / (2.0 * k as f64) * pw * zeta_pair(2 * k as i32, x);
                     corr += term;
                     if k >= self.order && term.abs() < 1e-19 {

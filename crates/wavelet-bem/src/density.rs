@@ -69,6 +69,43 @@ impl FourierDensity {
         buf.iter().map(|v| v.re).collect()
     }
 
+    /// The first m/k of [`FourierDensity::sample`]`(m, shift)`: one period
+    /// of a density of period 1/k (every ĉ_r with r not a multiple of k
+    /// exactly 0, as for a folded solve), from the m/k-point transform of
+    /// the coefficients ĉ_{ks} (μ at t = (j + shift)/m is
+    /// Re Σ_s ĉ_{ks} e^{2πi s (j + shift)/(m/k)}); any other density is
+    /// sampled whole and cut.
+    pub fn sample_period(&self, m: usize, shift: f64, k: usize) -> Vec<f64> {
+        let r_max = self.max_freq as i64;
+        let periodic = k > 1
+            && m.is_multiple_of(k)
+            && self.coef.iter().enumerate().all(|(idx, c)| {
+                (idx as i64 - r_max) % k as i64 == 0 || (c.re == 0.0 && c.im == 0.0)
+            });
+        if !periodic {
+            let mut all = self.sample(m, shift);
+            all.truncate(if m.is_multiple_of(k.max(1)) {
+                m / k.max(1)
+            } else {
+                m
+            });
+            return all;
+        }
+        let p = m / k;
+        let mut buf = vec![Complex64::new(0.0, 0.0); p];
+        for (idx, c) in self.coef.iter().enumerate() {
+            let r = idx as i64 - r_max;
+            if r % k as i64 != 0 {
+                continue;
+            }
+            let s = r / k as i64;
+            let ph = Complex64::from_polar(1.0, 2.0 * PI * s as f64 * shift / p as f64);
+            buf[s.rem_euclid(p as i64) as usize] += c * ph;
+        }
+        FftPlanner::new().plan_fft_inverse(p).process(&mut buf);
+        buf.iter().map(|v| v.re).collect()
+    }
+
     /// ∫₀¹ μ dt = ĉ₀.
     pub fn mean(&self) -> f64 {
         self.coef[self.max_freq].re

@@ -469,6 +469,9 @@ pub struct Section {
     /// that normals point out of Ω into the hole); their `area` and `centroid`
     /// are those of the hole, while `area` and `centroid` above are those of Ω
     pub holes: Vec<Section>,
+    /// a [`Section::flat_polygon`] whose vertices are graded all the same
+    /// (see [`Section::with_flat_vertices_graded`])
+    flat_vertices_graded: bool,
 }
 
 fn unit(v: V2) -> V2 {
@@ -571,6 +574,7 @@ impl Section {
             area: 0.0,
             centroid: [0.0; 2],
             holes: vec![],
+            flat_vertices_graded: false,
         };
         let area = sec.signed_area();
         if area.abs() < 1e-12 * total * total {
@@ -853,6 +857,12 @@ impl Section {
     /// r^{turn/(π − turn)} ≤ r^{0.006}: grading each corner would cost
     /// thousands of nodes per corner for nothing the error control can see.
     pub fn nearly_smooth_polygon(&self) -> bool {
+        !self.flat_vertices_graded && self.flat_polygon()
+    }
+
+    /// The shape test of [`Section::nearly_smooth_polygon`]: at least 8
+    /// segments, every vertex turning by less than [`FLAT_TURN`].
+    pub fn flat_polygon(&self) -> bool {
         self.pieces.len() >= 8
             && self
                 .pieces
@@ -862,6 +872,25 @@ impl Section {
                 .junctions
                 .iter()
                 .all(|j| (PI - j.interior_angle).abs() < FLAT_TURN)
+    }
+
+    /// This section with the nearly flat vertices of a
+    /// [`Section::flat_polygon`] graded like any corner (every vertex a
+    /// panel end with Kress's grading) instead of the arc-length
+    /// parametrisation of [`Section::nearly_smooth_polygon`]. Grading pays
+    /// only where the system folds by a rotation that maps every edge onto
+    /// the next (a regular N-gon: N n/N unknowns, solved on one edge; see
+    /// [`crate::control::prepared`]).
+    pub fn with_flat_vertices_graded(&self) -> Section {
+        Section {
+            flat_vertices_graded: true,
+            ..self.clone()
+        }
+    }
+
+    /// Whether [`Section::with_flat_vertices_graded`] made this section.
+    pub fn flat_vertices_graded(&self) -> bool {
+        self.flat_vertices_graded
     }
 
     /// True when some corner or cusp makes τ unbounded.

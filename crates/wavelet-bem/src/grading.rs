@@ -17,6 +17,7 @@
 //! within 1e-22 of the vertex.
 
 use crate::geometry::{End, Section, V2};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A boundary point: position `anchor + offset`, with derivatives in t.
@@ -512,9 +513,21 @@ impl Parametrisation {
     /// The point of panel k (parameter length `db`) at the coordinate
     /// `sig` ≤ ½ from its end `end`.
     fn eval_local(&self, section: &Section, k: usize, end: End, sig: f64, db: f64) -> BPoint {
+        self.eval_mapped(section, k, end, self.panel_map(k, sig), db)
+    }
+
+    /// [`Parametrisation::eval_local`] with the panel map's values
+    /// (w, dw/ds, d²w/ds²) at the coordinate given.
+    fn eval_mapped(
+        &self,
+        section: &Section,
+        k: usize,
+        end: End,
+        (om, dw, ddw): (f64, f64, f64),
+        db: f64,
+    ) -> BPoint {
         let m = self.breaks.len() - 1;
         let piece = &section.pieces[k];
-        let (om, dw, ddw) = self.panel_map(k, sig);
         // dw/ds for the global direction: w = ω near the start, w = 1 − ω(σ) with σ = 1 − s near the end
         let ddw = if end == End::Start { ddw } else { -ddw };
         let [off, xw, xww] = piece.eval(end, om);
@@ -538,22 +551,47 @@ impl Parametrisation {
 
     /// The half-shifted nodes t_j = (j + ½)/n evaluated on the boundary.
     pub fn nodes(&self, section: &Section, n: usize) -> Vec<BPoint> {
+        self.nodes_upto(section, n, n)
+    }
+
+    /// The first `count` (≤ n) of [`Parametrisation::nodes`].
+    pub fn nodes_upto(&self, section: &Section, n: usize, count: usize) -> Vec<BPoint> {
         if let Some(m) = self.uniform.filter(|m| n.is_multiple_of(*m)) {
             // n/m nodes per panel, their coordinates from their indices
             let per = n / m;
             let (pf, db) = (per as f64, 1.0 / m as f64);
-            return (0..n)
+            let at = |i: usize| {
+                if 2 * i < per {
+                    (End::Start, (i as f64 + 0.5) / pf)
+                } else {
+                    (End::End, ((per - i) as f64 - 0.5) / pf)
+                }
+            };
+            // every panel with the same map (a regular N-gon): the map's
+            // values once per position in the panel, not once per node
+            let same = self.zones.iter().all(|z| z.is_none())
+                && self.grading.iter().all(|g| *g == self.grading[0]);
+            if same {
+                let maps: Vec<(f64, f64, f64)> =
+                    (0..per).map(|i| self.panel_map(0, at(i).1)).collect();
+                return (0..count)
+                    .into_par_iter()
+                    .map(|j| {
+                        let (k, i) = (j / per, j % per);
+                        self.eval_mapped(section, k, at(i).0, maps[i], db)
+                    })
+                    .collect();
+            }
+            return (0..count)
                 .map(|j| {
                     let (k, i) = (j / per, j % per);
-                    if 2 * i < per {
-                        self.eval_local(section, k, End::Start, (i as f64 + 0.5) / pf, db)
-                    } else {
-                        self.eval_local(section, k, End::End, ((per - i) as f64 - 0.5) / pf, db)
-                    }
+                    let (end, sig) = at(i);
+                    self.eval_local(section, k, end, sig, db)
                 })
                 .collect();
         }
-        (0..n)
+        (0..count)
+            .into_par_iter()
             .map(|j| self.eval(section, (j as f64 + 0.5) / n as f64))
             .collect()
     }

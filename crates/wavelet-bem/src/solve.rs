@@ -244,8 +244,10 @@ pub const HARD_N_MAX: usize = 1 << 13;
 
 /// Largest n a solve accepts at all (the boundary arrays and the density
 /// evaluations are O(n) and O(n log n); a folded system's matrix is
-/// smaller than n², see [`HARD_N_MAX`]).
-pub const FOLDED_N_MAX: usize = 1 << 14;
+/// smaller than n², see [`HARD_N_MAX`], and its assembly takes n/k × n
+/// logarithms per curve pair): 2^19, room for a regular 2000-gon graded at
+/// every vertex (256 nodes per edge, folded to order 256).
+pub const FOLDED_N_MAX: usize = 1 << 19;
 
 /// The graded parametrisation of every curve of `section` (outer first)
 /// that a solve with `opts` uses.
@@ -513,17 +515,29 @@ impl TorsionSolution {
     /// q sampled at `m` equally spaced parameters of curve k with arc length,
     /// graded clusters skipped.
     pub fn boundary_samples_on(&self, k: usize, m: usize) -> Vec<BoundarySample> {
+        self.boundary_samples_upto(k, m, m)
+    }
+
+    /// The first `count` of [`TorsionSolution::boundary_samples_on`] (one
+    /// period of a solution folded by a rotation: the others repeat it).
+    fn boundary_samples_upto(&self, k: usize, m: usize, count: usize) -> Vec<BoundarySample> {
         let (sec, param, dens) = self.curve(k);
-        let ts: Vec<f64> = (0..m).map(|k| (k as f64 + 0.5) / m as f64).collect();
-        let mu = dens.sample(m, 0.5);
+        let ts: Vec<f64> = (0..count).map(|k| (k as f64 + 0.5) / m as f64).collect();
+        let mu = if count < m {
+            dens.sample_period(m, 0.5, m / count)
+        } else {
+            dens.sample(m, 0.5)
+        };
+        let nodes = param.nodes_upto(sec, m, count);
         let pts: Vec<(BPoint, bool)> = ts
             .par_iter()
-            .map(|&t| (param.eval(sec, t), self.in_cluster_on(k, t)))
+            .zip(nodes)
+            .map(|(&t, p)| (p, self.in_cluster_on(k, t)))
             .collect();
         // arc length by the trapezoidal rule on the same grid (exact spectrally for smooth |x′|)
         let mut s = 0.0;
-        let mut out = Vec::with_capacity(m);
-        for j in 0..m {
+        let mut out = Vec::with_capacity(count);
+        for j in 0..count {
             let (p, in_cluster) = &pts[j];
             if j > 0 {
                 s += 0.5 * (pts[j - 1].0.speed() + p.speed()) / m as f64;
@@ -604,9 +618,14 @@ impl TorsionSolution {
     /// that edge, and a sample position would make it depend on n.
     fn largest_flux(&self, clear: impl Fn(V2) -> bool) -> Option<(f64, V2)> {
         let m = (8 * self.options.n).max(2048);
+        // a solution folded by a k-fold rotation repeats every 1/k of each
+        // curve (the boundary and |q| alike): its first period holds the
+        // largest value
+        let fold = self.symmetry_order.max(1);
+        let count = if m.is_multiple_of(fold) { m / fold } else { m };
         let mut best: Option<(f64, f64, V2, usize)> = None;
         for k in 0..self.curve_count() {
-            for s in &self.boundary_samples_on(k, m) {
+            for s in &self.boundary_samples_upto(k, m, count) {
                 if best.is_none_or(|b| s.q.abs() > b.0) && clear(s.x) {
                     best = Some((s.q.abs(), s.t, s.x, k));
                 }

@@ -33,6 +33,8 @@
 //! anchors (which resolve the graded corners) and the tangents to
 //! [`RELATIVE_TOLERANCE`] of their own length.
 
+use rayon::prelude::*;
+
 use crate::geometry::V2;
 use crate::grading::BPoint;
 
@@ -86,7 +88,7 @@ fn curve_invariant(curve: &[BPoint], k: usize, x0: V2, radius: f64) -> bool {
     let close = |a: V2, b: V2, t: f64| (a[0] - b[0]).hypot(a[1] - b[1]) <= t;
     let rel = |a: V2, b: V2| close(a, b, RELATIVE_TOLERANCE * b[0].hypot(b[1]));
     let maps = |shift: usize| {
-        curve.iter().enumerate().all(|(i, p)| {
+        curve.par_iter().enumerate().all(|(i, p)| {
             let q = &curve[(i + shift) % n];
             let centred = |v: V2| [v[0] - x0[0], v[1] - x0[1]];
             let (px, qx) = (rot(centred(p.x())), centred(q.x()));

@@ -408,13 +408,32 @@ fn solver_options_are_validated() {
         }),
         SolveError::BadN { .. }
     ));
+    // above 2^19 never; above 8192 only folded to n/k ≤ 8192 (the circle
+    // folds to a period of 16 nodes, the same circle solved whole does not)
     assert!(matches!(
         bad(Options {
-            n: 1 << 16,
+            n: 1 << 20,
             ..Options::default()
         }),
         SolveError::BadN { .. }
     ));
+    assert!(matches!(
+        bad(Options {
+            n: 1 << 14,
+            symmetry: false,
+            ..Options::default()
+        }),
+        SolveError::BadN { .. }
+    ));
+    let folded = solve(
+        &sec,
+        &Options {
+            n: 1 << 16,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    assert!((folded.torsional_rigidity - circle_j).abs() < 1e-13);
     assert!(matches!(
         bad(Options {
             grading: 1.0,
@@ -484,55 +503,132 @@ fn nearly_smooth_polygons_are_parametrised_by_arc_length() {
     assert!(q.graded(0));
 }
 
-/// The nearly flat vertices of a 2000-gon are not resolved by its arc-length
-/// parametrisation: the rungs 512 to 2048 agree on J to 1e-13 and on τ_max
-/// to 5e-7 while both are further off. The estimates must cover that (the
-/// floors of `control::flat_vertex_floors`), so the default run is flagged,
-/// and since no n up to the cap can remove the floors, the ladder stops at
-/// the starting n.
-///
-/// References (regular N-gon, circumradius 1): J_N = π/2 (1 − a/N² − b/N⁴)
-/// with a = 13.1915, b = 553.7 fitted to graded solutions of the 100-gon
-/// (n = 4096, J = 1.568715507511597, estimate 2.4e-12) and the 200-gon
-/// (J = 1.570277752735584, estimate 4.6e-9); a = 13.16 from the area
-/// deficit alone. τ_max = cos(π/N)(1 + 0.676 ε), ε = 2/(N − 2), the
-/// elevation at mid-edge over the inscribed circle of the graded 100-gon
-/// (τ_max = 1.0132977, estimate 3.8e-7).
+/// A regular 2000-gon folds by its 2000-fold rotation, so the ladder grades
+/// every vertex like any corner and solves one edge
+/// (`control::prepared`): it converges at 1e-10, and its estimates bound
+/// the difference to a finer solve (n = 256 000, 128 nodes per edge).
+/// Solved whole (`symmetry: false`) it keeps the arc-length
+/// parametrisation, whose nearly flat vertices are not resolved: its rungs
+/// 512 to 2048 agree on J to 1e-13 and on τ_max to 5e-7 while both are
+/// further off (J 1.2e-9, τ_max 6.8e-4 against the graded answer), and the
+/// floors of `control::flat_vertex_floors` must cover that, so that run is
+/// flagged and stops at its starting n.
 #[test]
-fn flat_polygon_vertices_are_flagged_with_estimates_that_cover_the_error() {
-    let n_gon = 2000.0f64;
+fn a_regular_2000_gon_is_graded_and_folded_and_solved_whole_it_is_flagged() {
     let p = sections::regular_polygon(2000, 1.0).unwrap();
-    let c = control::solve_to_tolerance(&p, &Options::default(), 1e-8, 4096).unwrap();
-    assert!(!c.converged);
-    assert_eq!(c.solution.options.n, 2048, "stops at the starting n");
+    let opts = Options::default();
+    let prepared = control::prepared(&p, &opts);
+    assert!(prepared.flat_vertices_graded() && !prepared.nearly_smooth_polygon());
+    let tol = 1e-10;
+    let g = control::solve_to_tolerance(&p, &opts, tol, control::default_max_n(&p, &opts)).unwrap();
+    assert!(g.converged, "{:?}", g.warnings);
+    assert_eq!(g.solution.symmetry_order, 2000);
     assert!(
-        c.warnings
+        g.solution.options.n >= 64_000,
+        "n = {}",
+        g.solution.options.n
+    );
+    let (j, tau) = (g.solution.torsional_rigidity, g.max_shear.value.unwrap());
+    let fine = solve(&prepared, &Options { n: 256_000, ..opts }).unwrap();
+    let fine_tau = fine.max_shear().value.unwrap();
+    let dj = (j - fine.torsional_rigidity).abs() / j;
+    let dtau = (tau - fine_tau).abs() / tau;
+    assert!(
+        dj <= g.j_error && g.j_error <= tol,
+        "J {dj:e}, estimate {:e}",
+        g.j_error
+    );
+    let tau_est = g.tau_error.unwrap();
+    assert!(
+        dtau <= tau_est && tau_est <= tol,
+        "τ {dtau:e}, estimate {tau_est:e}"
+    );
+    // between the inscribed circle's J and the circumscribed one's
+    let c = (PI / 2000.0).cos();
+    assert!(j < PI / 2.0 && j > PI / 2.0 * c.powi(4));
+    // solved whole: arc length, flagged, within its estimates
+    let whole = Options {
+        symmetry: false,
+        ..opts
+    };
+    assert!(control::prepared(&p, &whole).nearly_smooth_polygon());
+    let a = control::solve_to_tolerance(&p, &whole, 1e-8, 4096).unwrap();
+    assert!(!a.converged);
+    assert_eq!(a.solution.options.n, 2048, "stops at the starting n");
+    assert!(
+        a.warnings
             .iter()
             .any(|w| w.contains("nearly flat vertices")),
         "{:?}",
-        c.warnings
+        a.warnings
     );
-    let j_ref = PI / 2.0 * (1.0 - 13.1915 / n_gon.powi(2) - 553.7 / n_gon.powi(4));
-    let j = c.solution.torsional_rigidity;
-    let j_err = (j - j_ref).abs() / j_ref;
-    // the rungs alone said about 1e-13
+    let j_err = (a.solution.torsional_rigidity - j).abs() / j;
     assert!(
-        j_err > 1e-9 && j_err <= c.j_error,
+        j_err > 1e-10 && j_err <= a.j_error,
         "J error {j_err:e}, estimate {:e}",
-        c.j_error
+        a.j_error
     );
-    let eps = 2.0 / (n_gon - 2.0);
-    let tau_ref = (PI / n_gon).cos() * (1.0 + 0.676 * eps);
-    let tau = c.max_shear.value.unwrap();
-    let tau_est = c.tau_error.unwrap();
-    let tau_err = (tau - tau_ref).abs() / tau_ref;
+    let tau_err = (a.max_shear.value.unwrap() - tau).abs() / tau;
+    let tau_est = a.tau_error.unwrap();
     assert!(
         tau_err > 1e-4 && tau_err <= tau_est,
         "τ error {tau_err:e}, estimate {tau_est:e}"
     );
-    // at a loose tolerance the same section converges
-    let loose = control::solve_to_tolerance(&p, &Options::default(), 1e-2, 4096).unwrap();
+    // at a loose tolerance the arc-length run converges
+    let loose = control::solve_to_tolerance(&p, &whole, 1e-2, 4096).unwrap();
     assert!(loose.converged, "{:?}", loose.warnings);
+}
+
+/// The graded flat polygon folds like any section: the regular 400-gon
+/// (turns of 0.9°) graded at every vertex, at n = 3200 (8 nodes per edge),
+/// folded by 200 to two edges (a period is at least 16 nodes) and solved
+/// whole, gives the same J, τ_max and
+/// Γ to round-off. A 2000-gon with one vertex moved by 1e-9 has no
+/// rotation and keeps the arc-length parametrisation.
+#[test]
+fn graded_flat_polygons_fold_like_whole_solves() {
+    let p = sections::regular_polygon(400, 1.0).unwrap();
+    assert!(p.nearly_smooth_polygon());
+    let opts = Options {
+        n: 3200,
+        ..Options::default()
+    };
+    let graded = control::prepared(&p, &opts);
+    assert!(graded.flat_vertices_graded());
+    let folded = solve(&graded, &opts).unwrap();
+    // (a period is at least 16 nodes: two edges)
+    assert_eq!(folded.symmetry_order, 200);
+    let whole = solve(
+        &graded,
+        &Options {
+            symmetry: false,
+            ..opts
+        },
+    )
+    .unwrap();
+    assert_eq!(whole.symmetry_order, 1);
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    assert!(rel(folded.torsional_rigidity, whole.torsional_rigidity) < 1e-12);
+    let (tf, tw) = (
+        folded.max_shear().value.unwrap(),
+        whole.max_shear().value.unwrap(),
+    );
+    assert!(rel(tf, tw) < 1e-11, "τ {tf} vs {tw}");
+    let (wf, ww) = (folded.warping(), whole.warping());
+    // Γ of a regular polygon is nearly 0: compare on the scale Ip R²
+    let (gf, gw) = (wf.warping_constant, ww.warping_constant);
+    assert!((gf - gw).abs() < 1e-12 * PI / 2.0, "Γ {gf} vs {gw}");
+    // one vertex moved: no rotation, arc length
+    let mut pts: Vec<[f64; 2]> = (0..2000)
+        .map(|k| {
+            let a = 2.0 * PI * k as f64 / 2000.0;
+            [a.cos(), a.sin()]
+        })
+        .collect();
+    pts[7][0] += 1e-9;
+    let q = sections::polygon(&pts).unwrap();
+    assert!(q.nearly_smooth_polygon());
+    assert!(!control::prepared(&q, &Options::default()).flat_vertices_graded());
 }
 
 /// A square given by 2000 points along its sides (as a digitised outline
