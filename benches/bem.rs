@@ -12,6 +12,7 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+use tecon::wavelet_bem::control::default_max_n;
 use tecon::wavelet_bem::daubechies::Daubechies;
 use tecon::wavelet_bem::grading::Parametrisation;
 use tecon::wavelet_bem::{
@@ -131,11 +132,13 @@ fn bench(c: &mut Criterion) {
 /// Every built-in section (hollow ones included) solved by the default error
 /// control to the relative tolerance 1e-10 (goal: under 0.2 s each), the
 /// sectionproperties comparison sections (box, monosymmetric I, channel of
-/// tests/data/sectionproperties.toml) to 1e-10, and a 2000-vertex polygon
-/// at the default tolerance 1e-8 (goal: under 1 s; it is parametrised by arc
-/// length without grading, its flat vertices are not resolved, and the result
-/// is flagged with their error floors at n = 2048: the bench measures what
-/// that costs).
+/// tests/data/sectionproperties.toml) to 1e-10, and 2000-vertex polygons
+/// (goal: under 1 s): the regular 2000-gon to 1e-10 (graded at every vertex
+/// and folded to one edge, n = 128 000), and 2000 points on the ellipse
+/// 2 × 1 at the default 1e-8 (no rotation of order 2000: parametrised by arc
+/// length, its flat vertices not resolved, flagged with their error floors;
+/// the bench measures what that costs). Each with the CLI's default
+/// largest n.
 fn bench_sections(c: &mut Criterion) {
     let mut g = c.benchmark_group("bem_sections");
     g.sample_size(10);
@@ -210,6 +213,19 @@ fn bench_sections(c: &mut Criterion) {
         (
             "polygon2000",
             sections::regular_polygon(2000, 1.0).expect("2000-gon"),
+            1e-10,
+        ),
+        (
+            "ellipse_points2000",
+            sections::polygon(
+                &(0..2000)
+                    .map(|k| {
+                        let a = 2.0 * std::f64::consts::PI * k as f64 / 2000.0;
+                        [2.0 * a.cos(), a.sin()]
+                    })
+                    .collect::<Vec<_>>(),
+            )
+            .expect("2000 points on an ellipse"),
             1e-8,
         ),
         (
@@ -231,7 +247,8 @@ fn bench_sections(c: &mut Criterion) {
     for (name, sec, tol) in &cases {
         g.bench_function(BenchmarkId::new("to_tolerance", name), |b| {
             b.iter(|| {
-                solve_to_tolerance(sec, &Options::default(), *tol, 4096)
+                let opts = Options::default();
+                solve_to_tolerance(sec, &opts, *tol, default_max_n(sec, &opts))
                     .map(|c| black_box(c.solution.torsional_rigidity))
             })
         });
@@ -247,7 +264,7 @@ fn bench_sections(c: &mut Criterion) {
         };
         g.bench_function(BenchmarkId::new("to_tolerance_whole", name), |b| {
             b.iter(|| {
-                solve_to_tolerance(sec, &whole, *tol, 4096)
+                solve_to_tolerance(sec, &whole, *tol, default_max_n(sec, &whole))
                     .map(|c| black_box(c.solution.torsional_rigidity))
             })
         });

@@ -57,8 +57,9 @@ pub struct TorsionArgs {
     #[arg(long, default_value_t = 1e-8, allow_hyphen_values = true)]
     pub tol: f64,
     /// Largest n the error control may use [default: 4096 (dense solves: n = 4096 takes
-    /// seconds), up to 8192 where a rotational symmetry of the section keeps the order of
-    /// the folded system n/k within 4096]
+    /// seconds); where a rotational symmetry folds the system to order n/k, up to 16 384
+    /// with n/k within 4096 (up to 2^19 for a regular polygon graded at thousands of flat
+    /// vertices, such as the 2000-gon)]
     #[arg(long)]
     pub max_n: Option<usize>,
     /// Print an unconverged result and exit 0 (it is still flagged `converged: false`)
@@ -85,9 +86,10 @@ pub struct TorsionArgs {
     #[arg(long)]
     pub no_corner_zones: bool,
     /// Solve the whole system even where the section has a rotational
-    /// symmetry (by default a boundary that a turn by 2π/k maps onto itself,
-    /// k = 2, 4, 8, …, is solved on one k-th of it: the same answer to
-    /// rounding; this is the cross-check)
+    /// symmetry (by default a boundary that a turn by 2π/k maps onto itself
+    /// is solved on one k-th of it: the same answer to rounding; this is the
+    /// cross-check). A regular polygon with nearly flat vertices (a 2000-gon)
+    /// is then parametrised by arc length, its vertices unresolved (flagged)
     #[arg(long)]
     pub no_symmetry: bool,
     /// Sections with re-entrant corners or inward cusps (where τ is infinite):

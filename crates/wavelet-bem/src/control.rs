@@ -332,11 +332,13 @@ impl Rungs {
 pub const DEFAULT_N_MAX: usize = 4096;
 
 /// The default largest n for `section`: the largest rung (see
-/// [`rung_base`]) up to [`DEFAULT_N_MAX`], or up to
-/// [`crate::solve::FOLDED_N_MAX`] where the system is folded by a
-/// rotational symmetry ([`crate::symmetry`]) so that its order per curve,
-/// n/k, stays within [`DEFAULT_N_MAX`] (the regular 64-gon reaches 1e-10
-/// at n = 8192, a folded order of 128; the 96-gon at 12 288).
+/// [`rung_base`]) up to [`DEFAULT_N_MAX`], or beyond where the system is
+/// folded by a rotational symmetry ([`crate::symmetry`]) so that its order
+/// per curve, n/k, stays within [`DEFAULT_N_MAX`] and its assembly within
+/// [`DEFAULT_WORK`]: up to 16 384 (the regular 64-gon reaches 1e-10 at
+/// n = 8192, a folded order of 128; the 96-gon at 12 288), and up to
+/// [`crate::solve::FOLDED_N_MAX`] for a polygon graded at thousands of
+/// flat vertices ([`prepared`]; the 2000-gon: 256 000).
 pub fn default_max_n(section: &Section, opts: &Options) -> usize {
     let prepared = prepared(section, opts);
     let section = &*prepared;
@@ -344,7 +346,21 @@ pub fn default_max_n(section: &Section, opts: &Options) -> usize {
         q: rung_base(section, opts),
     };
     let mut n = rungs.at_most(DEFAULT_N_MAX);
-    while 2 * n <= crate::solve::FOLDED_N_MAX && {
+    // beyond 16 384 only for thousands of graded vertices (every other
+    // section reached its tolerance below, or is flagged there as before,
+    // and testing the nodes of every doubling up to 2^19 for a rotation
+    // costs more than the solve of a circle)
+    let limit = if section.flat_vertices_graded() {
+        crate::solve::FOLDED_N_MAX
+    } else {
+        DEFAULT_FOLDED_N_MAX
+    };
+    // a rotation maps the pieces of a curve of several onto each other: its
+    // order divides their number, which bounds n/k from below (no need to
+    // test the nodes of an n whose work would be too large whatever k)
+    let pieces = section.pieces.len();
+    let most = |n: usize| if pieces > 1 { pieces } else { n };
+    while 2 * n <= limit && 2 * n / most(2 * n) * 2 * n <= DEFAULT_WORK && {
         let order = 2 * n / crate::solve::symmetry_order(section, &Options { n: 2 * n, ..*opts });
         order <= DEFAULT_N_MAX && order * 2 * n <= DEFAULT_WORK
     } {
@@ -352,6 +368,9 @@ pub fn default_max_n(section: &Section, opts: &Options) -> usize {
     }
     n
 }
+
+/// The default largest n of a folded section without flat graded vertices.
+const DEFAULT_FOLDED_N_MAX: usize = 1 << 14;
 
 /// Largest n/k × n (the logarithms of a folded assembly per curve pair)
 /// of the default largest n: that of n = 16 384 folded to 4096, about a
