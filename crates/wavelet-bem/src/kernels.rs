@@ -95,10 +95,11 @@ pub fn log_remainder_upper(nodes: &[BPoint], n: usize, x0: V2) -> (Vec<f64>, Vec
 /// m = n/k nodes on each of its K curves (see [`crate::symmetry`]): the
 /// row-major K m × K m matrix L_f[(a,i),(b,j)] = Σ_q L[(a,i),(b,j+qm)]
 /// (i, j < m), and the right-hand side f at the first m nodes of each
-/// curve. Each row is computed whole (N logarithms, every pair (i, j) of
-/// the period's rows) and folded in a fixed order, one row per task, so
-/// the result does not depend on the number of threads. L_f is symmetric
-/// up to rounding; the caller uses its upper triangle.
+/// curve. L_f is symmetric (L is, and invariant under the shift): only
+/// its upper triangle is computed (half the logarithms; the lower one is
+/// left 0, and the caller reads the upper one), each row folded in a fixed
+/// order, one row per task, so the result does not depend on the number
+/// of threads.
 pub fn log_remainder_folded(nodes: &[BPoint], n: usize, m: usize, x0: V2) -> (Vec<f64>, Vec<f64>) {
     let big = nodes.len();
     let curves = big / n;
@@ -147,14 +148,21 @@ struct FoldedRow<'a> {
 }
 
 impl FoldedRow<'_> {
-    /// Fills `folded` (K m entries) from the whole row (`row`, N entries of
-    /// work) and returns the row's right-hand-side sum (before the weight
-    /// 1/n); `terms` is work space.
+    /// Fills the upper triangle of `folded` (K m entries: the columns from
+    /// the row's own position on; the others, which the caller never
+    /// reads, are 0) and returns the row's right-hand-side sum (before the
+    /// weight 1/n) over the whole row; `row` and `terms` are work space (N
+    /// entries). The logarithms are taken only for the columns folded into
+    /// that triangle: on the row's own curve the nodes q m + jj with
+    /// jj ≥ ii (its index), and every node of the curves after it, half
+    /// of the row.
     #[inline(always)]
     fn fill(&self, row: &mut [f64], terms: &mut [f64], folded: &mut [f64]) -> f64 {
         let (a, i, n, m) = (self.a, self.i, self.n, self.m);
         let big = a.len();
         let (pxi, pyi, x0) = (a.px[i], a.py[i], self.x0);
+        let (start, ii) = ((i / n) * n, i % n);
+        let k = n / m;
         for j in 0..big {
             let (dx, dy) = a.diff(i, j);
             let rr = dx * dx + dy * dy;
@@ -167,25 +175,41 @@ impl FoldedRow<'_> {
             terms[j] = w * (dx * a.ty[j] - dy * a.tx[j]);
         }
         let fi = sum_lanes(terms);
-        crate::logarithm::ln_slice(row);
-        let (start, ii) = ((i / n) * n, i % n);
-        for v in row.iter_mut() {
+        // ½ ln r² on the columns of the triangle
+        for q in 0..k {
+            let seg = &mut row[start + q * m + ii..start + (q + 1) * m];
+            crate::logarithm::ln_slice(seg);
+            for v in seg.iter_mut() {
+                *v *= 0.5;
+            }
+        }
+        let later = &mut row[start + n..];
+        crate::logarithm::ln_slice(later);
+        for v in later.iter_mut() {
             *v *= 0.5;
         }
         // ln|2 sin π(t_i − t_j)| on i's own curve (index |i − j|, as the
         // full matrix's triangles)
-        let own = &mut row[start..start + n];
-        for (jj, v) in own.iter_mut().enumerate() {
-            if jj != ii {
-                *v -= self.sines[ii.abs_diff(jj)];
+        for q in 0..k {
+            for jj in q * m + ii..(q + 1) * m {
+                if jj != ii {
+                    row[start + jj] -= self.sines[ii.abs_diff(jj)];
+                }
             }
         }
         let speed = a.tx[i].hypot(a.ty[i]);
-        own[ii] = (speed / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
-        for (blk, out) in row.chunks(n).zip(folded.chunks_mut(m)) {
-            out.copy_from_slice(&blk[..m]);
+        row[i] = (speed / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+        let c = i / n;
+        for (b, (blk, out)) in row.chunks(n).zip(folded.chunks_mut(m)).enumerate() {
+            let from = match b.cmp(&c) {
+                std::cmp::Ordering::Less => m,
+                std::cmp::Ordering::Equal => ii,
+                std::cmp::Ordering::Greater => 0,
+            };
+            out[..from].fill(0.0);
+            out[from..].copy_from_slice(&blk[from..m]);
             for period in blk.chunks(m).skip(1) {
-                for (o, v) in out.iter_mut().zip(period) {
+                for (o, v) in out[from..].iter_mut().zip(&period[from..]) {
                     *o += v;
                 }
             }

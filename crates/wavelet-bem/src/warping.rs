@@ -203,10 +203,16 @@ impl Nodes {
 }
 
 /// ∫ ω² dA by the Φ double integral (see the module notes). With `fold`
-/// k > 1 the nodes and ω are invariant under the shift by m/k nodes on
+/// k > 1 the nodes and ω are invariant under the shift by p = m/k nodes on
 /// every curve (a k-fold rotation about the centroid, see
-/// [`crate::symmetry`]): ψ and χ are then invariant too, and only the rows
-/// of each curve's first m/k nodes are summed, whole, and counted k times.
+/// [`crate::symmetry`]): ψ and χ are then invariant too, and the integral
+/// is k times the sum over the rows of each curve's first p nodes (the set
+/// P). Each of those rows sums over every node j, and the pairs (i, j)
+/// fall into orbits under the rotation: the orbit of (j, i) has its own
+/// representative (j′, i′) with j′ in P, whose row term is the j side of
+/// the pair (i, j). So each pair is evaluated once, for both of its rows,
+/// by the row of P whose position (curve, index within the period) comes
+/// first ([`OmegaPairs::half_row`]): half the logarithms of whole rows.
 fn omega_squared_integral(nd: &Nodes, fold: usize) -> f64 {
     let m = nd.m;
     let big = nd.pts.len();
@@ -221,19 +227,15 @@ fn omega_squared_integral(nd: &Nodes, fold: usize) -> f64 {
                 || RowWork::new(big),
                 |work, &i| {
                     #[cfg(target_arch = "x86_64")]
-                    let (psi, chi) = if crate::logarithm::has_avx2() {
+                    if crate::logarithm::has_avx2() {
                         // SAFETY: the CPU has AVX2, the only feature it is compiled for
-                        unsafe { pairs.full_row_avx2(i, work) }
-                    } else {
-                        pairs.full_row(i, work)
-                    };
-                    #[cfg(not(target_arch = "x86_64"))]
-                    let (psi, chi) = pairs.full_row(i, work);
-                    (nd.omega[i] * chi - psi * nd.flux[i]) * pairs.speeds[i] * h
+                        return unsafe { pairs.half_row_avx2(i, period, work) };
+                    }
+                    pairs.half_row(i, period, work)
                 },
             )
             .collect();
-        return fold as f64 * terms.iter().sum::<f64>();
+        return fold as f64 * h * terms.iter().sum::<f64>();
     }
     // Every kernel depends on the pair through r², ln r and the two normal
     // projections of x_i − x_j, and swapping i and j swaps the projections
@@ -315,13 +317,15 @@ impl OmegaPairs {
     }
 }
 
-/// Work arrays of [`OmegaPairs::full_row`], one entry per node.
+/// Work arrays of [`OmegaPairs::half_row`], one entry per node.
 struct RowWork {
     dx: Vec<f64>,
     dy: Vec<f64>,
     lnr: Vec<f64>,
-    own_psi: Vec<f64>,
-    own_chi: Vec<f64>,
+    /// the weighted terms of the row's pairs
+    terms: Vec<f64>,
+    /// the columns the row evaluates
+    cols: Vec<usize>,
 }
 
 impl RowWork {
@@ -330,8 +334,8 @@ impl RowWork {
             dx: vec![0.0; big],
             dy: vec![0.0; big],
             lnr: vec![0.0; big],
-            own_psi: vec![0.0; big],
-            own_chi: vec![0.0; big],
+            terms: vec![0.0; big],
+            cols: Vec::with_capacity(big),
         }
     }
 }
@@ -428,61 +432,85 @@ impl OmegaPairs {
         (psi, chi)
     }
 
-    /// (ψ_i, χ_i) of row i summed over every node j ≠ i: the terms of
-    /// [`OmegaPairs::rows`] for row i, whichever of i and j comes first
-    /// (the kernels are symmetric in the pair: swapping i and j swaps the
-    /// normal projections and negates d).
+    /// Row i's share, over h, of the folded ∫ ω² (see
+    /// [`omega_squared_integral`]; i in the first `period` nodes of its
+    /// curve, k = m/period): Σ over the pairs (i, j) it evaluates of
+    /// ω|x′| χ − ∂ω/∂n |x′| ψ for row i and, but for the pairs a half turn
+    /// maps onto themselves, for row j. It evaluates, on i's own curve, the
+    /// nodes q p + r of every period q with r > i's index ii, and r = ii
+    /// for 1 ≤ q ≤ k/2 (the rotations of i itself: q and k − q are one
+    /// pair, read from both ends); on the curves after i's, every node.
     #[inline(always)]
-    fn full_row(&self, i: usize, work: &mut RowWork) -> (f64, f64) {
+    fn half_row(&self, i: usize, period: usize, work: &mut RowWork) -> f64 {
         let (m, r, sines) = (self.m, &self.r, &self.sines);
         let big = self.arrays.len();
         let h = 1.0 / m as f64;
         let c8 = 1.0 / (8.0 * PI);
         let (qs, ws) = (&self.qs, &self.ws);
+        let k = m / period;
         let RowWork {
             dx,
             dy,
             lnr,
-            own_psi,
-            own_chi,
+            terms,
+            cols,
         } = work;
-        let l = (self.speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
-        let diag_chi = -(h * (-(1.0 - 2.0 * l) * c8) * ws[i] + r[0] * (2.0 * c8) * ws[i]);
-        for j in 0..big {
-            (dx[j], dy[j]) = self.arrays.diff(i, j);
-            lnr[j] = (dx[j] * dx[j] + dy[j] * dy[j]).max(f64::MIN_POSITIVE);
-        }
-        crate::logarithm::ln_slice(lnr);
         let (start, ii) = ((i / m) * m, i % m);
-        // the other curves: A only, L = ln r
-        for j in (0..start).chain(start + m..big) {
-            let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j]);
-            own_psi[j] = t.psi_i;
-            own_chi[j] = t.chi_i;
-        }
-        // i's own curve: A and B, Kress's weight R((t_i − t_j) mod 1)
-        for j in start..start + m {
-            let jj = j - start;
-            if jj == ii {
-                own_psi[j] = 0.0;
-                own_chi[j] = 0.0;
-                continue;
+        cols.clear();
+        for q in 0..k {
+            let base = start + q * period;
+            if q > 0 && 2 * q <= k {
+                cols.push(base + ii);
             }
-            let t = self.smooth(i, j, dx[j], dy[j], 0.5 * lnr[j] - sines[ii.abs_diff(jj)]);
-            let (qj, wj) = (qs[j], ws[j]);
-            let wr = r[(ii + m - jj) % m];
-            let [b_phi, b_dny, b_dnx, b_dd] = t.singular();
-            own_psi[j] = t.psi_i + wr * (b_phi * qj - b_dny * wj);
-            own_chi[j] = t.chi_i + wr * (b_dnx * qj - b_dd * wj);
+            cols.extend(base + ii + 1..base + period);
         }
-        (sum_lanes(own_psi), sum_lanes(own_chi) + diag_chi)
+        let own = cols.len();
+        cols.extend(start + m..big);
+        let count = cols.len();
+        for (t, &j) in cols.iter().enumerate() {
+            (dx[t], dy[t]) = self.arrays.diff(i, j);
+            lnr[t] = (dx[t] * dx[t] + dy[t] * dy[t]).max(f64::MIN_POSITIVE);
+        }
+        crate::logarithm::ln_slice(&mut lnr[..count]);
+        let (qi, wi) = (qs[i], ws[i]);
+        // i's own curve: A and B, Kress's weights R((t_i − t_j) mod 1) for
+        // row i and R((t_j − t_i) mod 1) for row j
+        for t in 0..own {
+            let j = cols[t];
+            let jj = j - start;
+            let pair = self.smooth(i, j, dx[t], dy[t], 0.5 * lnr[t] - sines[ii.abs_diff(jj)]);
+            let (qj, wj) = (qs[j], ws[j]);
+            let wr_i = r[(ii + m - jj) % m];
+            let [b_phi, b_dny, b_dnx, b_dd] = pair.singular();
+            let psi_i = pair.psi_i + wr_i * (b_phi * qj - b_dny * wj);
+            let chi_i = pair.chi_i + wr_i * (b_dnx * qj - b_dd * wj);
+            let mut v = wi * chi_i - qi * psi_i;
+            // a half turn maps the pair (i, j) onto (j, i): one orbit, one row
+            if !(jj % period == ii && 2 * (jj / period) == k) {
+                let wr_j = r[(jj + m - ii) % m];
+                let psi_j = pair.psi_j + wr_j * (b_phi * qi - b_dnx * wi);
+                let chi_j = pair.chi_j + wr_j * (b_dny * qi - b_dd * wi);
+                v += wj * chi_j - qj * psi_j;
+            }
+            terms[t] = v;
+        }
+        // the curves after i's: A only, L = ln r
+        for t in own..count {
+            let j = cols[t];
+            let pair = self.smooth(i, j, dx[t], dy[t], 0.5 * lnr[t]);
+            terms[t] = wi * pair.chi_i - qi * pair.psi_i + ws[j] * pair.chi_j - qs[j] * pair.psi_j;
+        }
+        // the diagonal limit: only the double-normal kernel survives
+        let l = (self.speeds[i] / (2.0 * PI)).max(f64::MIN_POSITIVE).ln();
+        let diag_chi = -(h * (-(1.0 - 2.0 * l) * c8) * wi + r[0] * (2.0 * c8) * wi);
+        sum_lanes(&terms[..count]) + wi * diag_chi
     }
 
-    /// [`OmegaPairs::full_row`] compiled for AVX2 (the same bits).
+    /// [`OmegaPairs::half_row`] compiled for AVX2 (the same bits).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn full_row_avx2(&self, i: usize, work: &mut RowWork) -> (f64, f64) {
-        self.full_row(i, work)
+    fn half_row_avx2(&self, i: usize, period: usize, work: &mut RowWork) -> f64 {
+        self.half_row(i, period, work)
     }
 
     /// [`OmegaPairs::rows`] compiled for AVX2 (the same bits).
@@ -668,6 +696,39 @@ impl TorsionSolution {
 mod tests {
     use super::*;
     use crate::kernels::tests::circle;
+
+    /// The folded ∫ ω² (each pair once, for both rows, by the row of the
+    /// first period that comes first) equals the whole double sum on node
+    /// data with a k-fold symmetry: two concentric circles of 48 nodes,
+    /// ω and ∂ω/∂n repeating every 48/k nodes, for k = 2 (pairs a half turn
+    /// maps onto themselves), 3 (odd) and 4.
+    #[test]
+    fn the_folded_pair_sum_equals_the_whole_one() {
+        let m = 48;
+        for k in [2usize, 3, 4] {
+            let p = m / k;
+            let mut pts = circle(m, 1.0, [0.0, 0.0]);
+            pts.extend(circle(m, 0.4, [0.0, 0.0]));
+            let big = pts.len();
+            let nd = Nodes {
+                omega: (0..big)
+                    .map(|i| (0.37 * (i % p) as f64 + 0.1 * (i / m) as f64).sin())
+                    .collect(),
+                flux: (0..big)
+                    .map(|i| (0.21 * (i % p) as f64 - 0.3 * (i / m) as f64).cos())
+                    .collect(),
+                pts,
+                m,
+            };
+            let whole = omega_squared_integral(&nd, 1);
+            let folded = omega_squared_integral(&nd, k);
+            assert!(whole.abs() > 1e-3, "{whole}");
+            assert!(
+                (whole - folded).abs() < 1e-13 * whole.abs(),
+                "k = {k}: {whole} vs {folded}"
+            );
+        }
+    }
 
     /// The AVX2 copy of the pair loop gives the same bits as the baseline
     /// copy (no fused multiply-adds, no reordering), on two curves.
