@@ -287,17 +287,14 @@ pub fn prepared<'a>(section: &'a Section, opts: &Options) -> Cow<'a, Section> {
         return Cow::Borrowed(section);
     }
     let m = section.pieces.len();
-    let lens: Vec<f64> = section.pieces.iter().map(|p| p.length()).collect();
-    let (lo, hi) = lens.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
-        (lo.min(l), hi.max(l))
-    });
-    if !(hi > 0.0 && hi - lo <= 1e-12 * hi) {
+    if !section.pieces_of_equal_length() {
         return Cow::Borrowed(section);
     }
     let graded = section.with_flat_vertices_graded();
-    // 16 nodes per edge: every edge a panel, the breaks exactly k/N
+    // 16 nodes per edge: every edge a panel, the breaks exactly k/N; the
+    // ladder starts at 32 per edge (`starting_nodes`), which must be allowed
     let n = 16 * m;
-    if n <= crate::solve::FOLDED_N_MAX
+    if 2 * n <= crate::solve::FOLDED_N_MAX
         && crate::solve::symmetry_order(&graded, &Options { n, ..*opts }).is_multiple_of(m)
     {
         Cow::Owned(graded)
@@ -345,22 +342,26 @@ pub fn default_max_n(section: &Section, opts: &Options) -> usize {
     let rungs = Rungs {
         q: rung_base(section, opts),
     };
+    // a polygon graded at thousands of flat vertices folds by its number of
+    // edges N on every rung with 16 nodes per edge or more (tested at
+    // 16 N by `prepared`, and again by each solve): the largest rung whose
+    // folded assembly stays within the work bound (the rungs below 16 per
+    // edge fold by less and are never the top)
+    if section.flat_vertices_graded() {
+        let edges = section.pieces.len();
+        let mut n = rungs.at_most(crate::solve::FOLDED_N_MAX);
+        while n / 2 >= 16 * edges && (n / edges > DEFAULT_N_MAX || n / edges * n > DEFAULT_WORK) {
+            n /= 2;
+        }
+        return n;
+    }
     let mut n = rungs.at_most(DEFAULT_N_MAX);
-    // beyond 16 384 only for thousands of graded vertices (every other
-    // section reached its tolerance below, or is flagged there as before,
-    // and testing the nodes of every doubling up to 2^19 for a rotation
-    // costs more than the solve of a circle)
-    let limit = if section.flat_vertices_graded() {
-        crate::solve::FOLDED_N_MAX
-    } else {
-        DEFAULT_FOLDED_N_MAX
-    };
     // a rotation maps the pieces of a curve of several onto each other: its
     // order divides their number, which bounds n/k from below (no need to
     // test the nodes of an n whose work would be too large whatever k)
     let pieces = section.pieces.len();
     let most = |n: usize| if pieces > 1 { pieces } else { n };
-    while 2 * n <= limit && 2 * n / most(2 * n) * 2 * n <= DEFAULT_WORK && {
+    while 2 * n <= DEFAULT_FOLDED_N_MAX && 2 * n / most(2 * n) * 2 * n <= DEFAULT_WORK && {
         let order = 2 * n / crate::solve::symmetry_order(section, &Options { n: 2 * n, ..*opts });
         order <= DEFAULT_N_MAX && order * 2 * n <= DEFAULT_WORK
     } {

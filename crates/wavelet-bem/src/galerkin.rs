@@ -236,7 +236,13 @@ pub fn assemble_with(
     let big = nodes.len();
     let g2 = kernels::radius_sq(&nodes, x0);
     if fold > 1 {
-        let order = crate::symmetry::rotation_order(&nodes, n, x0, section.radius());
+        let order = crate::symmetry::rotation_order(
+            &nodes,
+            n,
+            x0,
+            section.radius(),
+            crate::symmetry::relative_tolerance(section),
+        );
         if !(n.is_multiple_of(fold) && order.is_multiple_of(fold)) {
             return Err(SolveError::BadN {
                 n,

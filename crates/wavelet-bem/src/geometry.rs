@@ -874,6 +874,21 @@ impl Section {
                 .all(|j| (PI - j.interior_angle).abs() < FLAT_TURN)
     }
 
+    /// Whether every piece of this curve has the same length: to 1e-12 of
+    /// it, or to 1e-13 of the section's radius (the rounding of their end
+    /// points: the regular 3000-gon's edges, from cos and sin of 2πk/N,
+    /// differ by 1.0e-12 of their length).
+    pub fn pieces_of_equal_length(&self) -> bool {
+        let (lo, hi) = self
+            .pieces
+            .iter()
+            .map(|p| p.length())
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), l| {
+                (lo.min(l), hi.max(l))
+            });
+        hi > 0.0 && hi - lo <= (1e-12 * hi).max(1e-13 * self.radius())
+    }
+
     /// This section with the nearly flat vertices of a
     /// [`Section::flat_polygon`] graded like any corner (every vertex a
     /// panel end with Kress's grading) instead of the arc-length

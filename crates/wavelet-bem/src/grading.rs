@@ -410,11 +410,7 @@ impl Parametrisation {
         if n.is_power_of_two() || m < 2 || !n.is_multiple_of(m) {
             return self;
         }
-        let lens: Vec<f64> = section.pieces.iter().map(|q| q.length()).collect();
-        let (lo, hi) = lens.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &l| {
-            (lo.min(l), hi.max(l))
-        });
-        if !(hi > 0.0 && hi - lo <= 1e-12 * hi) || section.nearly_smooth_polygon() {
+        if !section.pieces_of_equal_length() || section.nearly_smooth_polygon() {
             return self;
         }
         self.breaks = (0..=m).map(|k| k as f64 / m as f64).collect();

@@ -290,7 +290,13 @@ fn fold_order(section: &Section, params: &[Parametrisation], opts: &Options) -> 
         .zip(params)
         .flat_map(|(c, p)| p.nodes(c, opts.n))
         .collect();
-    crate::symmetry::rotation_order(&nodes, opts.n, section.centroid, section.radius())
+    crate::symmetry::rotation_order(
+        &nodes,
+        opts.n,
+        section.centroid,
+        section.radius(),
+        crate::symmetry::relative_tolerance(section),
+    )
 }
 
 /// The order k of the rotational symmetry that a solve of `section` with

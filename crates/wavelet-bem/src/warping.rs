@@ -638,7 +638,13 @@ impl TorsionSolution {
         });
         // the solve's rotational symmetry, where these nodes have it too
         let fold = if self.symmetry_order > 1 {
-            let order = crate::symmetry::rotation_order(&nd.pts, m, x0, sec.radius());
+            let order = crate::symmetry::rotation_order(
+                &nd.pts,
+                m,
+                x0,
+                sec.radius(),
+                crate::symmetry::relative_tolerance(sec),
+            );
             self.symmetry_order.min(order)
         } else {
             1

@@ -20,7 +20,13 @@ fn order_of(sec: &Section, n: usize) -> usize {
         .zip(&params)
         .flat_map(|(c, p)| p.nodes(c, n))
         .collect();
-    symmetry::rotation_order(&nodes, n, sec.centroid, sec.radius())
+    symmetry::rotation_order(
+        &nodes,
+        n,
+        sec.centroid,
+        sec.radius(),
+        symmetry::relative_tolerance(sec),
+    )
 }
 
 /// The solves of `sec` at n whole and folded, and their relative J difference.
@@ -276,4 +282,35 @@ fn odd_rotations_fold_on_their_own_rungs() {
             "tol {tol:e}: τ off by {et:e}, estimate {tau_est:e}"
         );
     }
+}
+
+/// The tangents and offsets of short edges carry their end points' rounding
+/// over their length: the regular 3000-gon's edges (2.1e-3 long, vertices
+/// from cos and sin) differ by 1.0e-12 of their length, beyond the plain
+/// relative tolerance 1e-12. Scaled by the shortest piece
+/// (`symmetry::relative_tolerance`), its graded nodes at 16 per edge keep
+/// their 3000-fold rotation; a vertex moved by 1e-11 (100 times the
+/// position tolerance) still breaks it, and the square keeps 1e-12.
+#[test]
+fn short_edges_keep_their_rotation_to_round_off() {
+    let p = sections::regular_polygon(3000, 1.0).unwrap();
+    let tol = symmetry::relative_tolerance(&p);
+    assert!(tol > 1e-12 && tol < 1e-10, "{tol:e}");
+    let graded = p.with_flat_vertices_graded();
+    assert!(graded.pieces_of_equal_length());
+    assert_eq!(order_of(&graded, 48_000), 3000);
+    let mut pts: Vec<[f64; 2]> = (0..3000)
+        .map(|k| {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / 3000.0;
+            [a.cos(), a.sin()]
+        })
+        .collect();
+    pts[11][1] += 1e-11;
+    let moved = sections::polygon(&pts).unwrap().with_flat_vertices_graded();
+    assert_eq!(order_of(&moved, 48_000), 1);
+    let square = sections::rectangle(1.0, 1.0).unwrap();
+    assert_eq!(
+        symmetry::relative_tolerance(&square),
+        symmetry::RELATIVE_TOLERANCE
+    );
 }
