@@ -768,6 +768,23 @@ fn a_folded_section_may_refine_past_the_usual_largest_n() {
     assert_eq!(v["symmetry_order"], 75);
 }
 
+/// The regular 2000-gon is graded at every (nearly flat) vertex and folded
+/// to one edge: converged at the default tolerance, exit 0, far past the
+/// usual largest n. Solved whole it is parametrised by arc length and
+/// flagged (exit status 2, the warning names the flat vertices).
+#[test]
+fn a_regular_2000_gon_is_graded_and_converges_and_whole_it_is_flagged() {
+    let v = json(&["--section", "regular:n=2000,r=1"]);
+    assert_eq!(v["converged"], true);
+    assert_eq!(v["symmetry_order"], 2000);
+    assert!(v["n"].as_u64().unwrap() >= 64_000, "{}", v["n"]);
+    let tau = v["max_shear_stress"].as_f64().unwrap();
+    // the flux rises by about ε = 1e-3 from each vertex to mid-edge
+    assert!(tau > 1.0005 && tau < 1.001, "{tau}");
+    let (ok, _, err) = tecon(&["--section", "regular:n=2000,r=1", "--no-symmetry"]);
+    assert!(!ok && err.contains("nearly flat vertices"), "{err}");
+}
+
 /// Elliptic pieces in section files: the hollow ellipse between similar
 /// ellipses (inner one k times the outer) has the solid ellipse's stress
 /// function, constant on the inner ellipse, so J = π a³b³/(a² + b²) (1 − k⁴),
