@@ -517,7 +517,7 @@ fn nearly_smooth_polygons_are_parametrised_by_arc_length() {
 fn a_regular_2000_gon_is_graded_and_folded_and_solved_whole_it_is_flagged() {
     let p = sections::regular_polygon(2000, 1.0).unwrap();
     let opts = Options::default();
-    let prepared = control::prepared(&p, &opts);
+    let prepared = control::prepared(&p, &opts, 1 << 19);
     assert!(prepared.flat_vertices_graded() && !prepared.nearly_smooth_polygon());
     let tol = 1e-10;
     let g = control::solve_to_tolerance(&p, &opts, tol, control::default_max_n(&p, &opts)).unwrap();
@@ -551,7 +551,9 @@ fn a_regular_2000_gon_is_graded_and_folded_and_solved_whole_it_is_flagged() {
         symmetry: false,
         ..opts
     };
-    assert!(control::prepared(&p, &whole).nearly_smooth_polygon());
+    assert!(control::prepared(&p, &whole, 1 << 19).nearly_smooth_polygon());
+    // nor below 32 nodes per edge (n = 2048: arc length, its floors)
+    assert!(control::prepared(&p, &opts, 2048).nearly_smooth_polygon());
     let a = control::solve_to_tolerance(&p, &whole, 1e-8, 4096).unwrap();
     assert!(!a.converged);
     assert_eq!(a.solution.options.n, 2048, "stops at the starting n");
@@ -574,6 +576,13 @@ fn a_regular_2000_gon_is_graded_and_folded_and_solved_whole_it_is_flagged() {
         tau_err > 1e-4 && tau_err <= tau_est,
         "τ error {tau_err:e}, estimate {tau_est:e}"
     );
+    // the expert path below 16 nodes per edge keeps arc length too: graded
+    // at n = 2048 (one node per edge) τ_max was 2.3e-4 off with n and n/2
+    // agreeing to 7.4e-6; with the floors the estimate bounds the error
+    let fixed = control::solve_with_estimate(&p, &Options { n: 2048, ..opts }, 1e-8).unwrap();
+    assert_eq!(fixed.solution.symmetry_order, 1);
+    let fixed_err = (fixed.max_shear.value.unwrap() - tau).abs() / tau;
+    assert!(fixed_err <= fixed.tau_error.unwrap(), "{fixed_err:e}");
     // at a loose tolerance the arc-length run converges
     let loose = control::solve_to_tolerance(&p, &whole, 1e-2, 4096).unwrap();
     assert!(loose.converged, "{:?}", loose.warnings);
@@ -593,7 +602,7 @@ fn graded_flat_polygons_fold_like_whole_solves() {
         n: 3200,
         ..Options::default()
     };
-    let graded = control::prepared(&p, &opts);
+    let graded = control::prepared(&p, &opts, 1 << 19);
     assert!(graded.flat_vertices_graded());
     let folded = solve(&graded, &opts).unwrap();
     // (a period is at least 16 nodes: two edges)
@@ -628,7 +637,7 @@ fn graded_flat_polygons_fold_like_whole_solves() {
     pts[7][0] += 1e-9;
     let q = sections::polygon(&pts).unwrap();
     assert!(q.nearly_smooth_polygon());
-    assert!(!control::prepared(&q, &Options::default()).flat_vertices_graded());
+    assert!(!control::prepared(&q, &Options::default(), 1 << 19).flat_vertices_graded());
 }
 
 /// A square given by 2000 points along its sides (as a digitised outline
