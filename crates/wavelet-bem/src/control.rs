@@ -893,11 +893,25 @@ pub fn solve_to_tolerance(
     } else {
         Rungs { q: 1 }
     };
-    let mut n_max = rungs.at_most(n_max);
-    // the largest rung allowed: below it only for lack of memory
-    let top = n_max;
+    let asked = n_max;
+    let mut n_max = rungs.at_most(n_max.min(crate::solve::FOLDED_N_MAX));
     // (a folded system is of order K n/k)
     let order = |n: usize| n / crate::solve::symmetry_order(section, &Options { n, ..*opts });
+    // the largest rung a solve accepts (n/k ≤ HARD_N_MAX, n ≤ FOLDED_N_MAX):
+    // a larger --max-n ran the ladder into a solve that refused it (the
+    // ellipse 1 × 0.01 at 1e-14 stopped with an error at n = 32 768)
+    while n_max / 2 >= min_n(opts) && order(n_max) > crate::solve::HARD_N_MAX {
+        n_max /= 2;
+    }
+    let limit_note = (n_max < rungs.at_most(asked)).then(|| {
+        format!(
+            "--max-n {asked} lowered to n = {n_max}: a solve takes at most {} unknowns per curve, n/k for a section it folds by a k-fold rotation, and n ≤ {}",
+            crate::solve::HARD_N_MAX,
+            crate::solve::FOLDED_N_MAX
+        )
+    });
+    // the largest rung allowed: below it only for lack of memory
+    let top = n_max;
     while n_max / 2 >= min_n(opts)
         && crate::memory::check(opts.method, curves, order(n_max)).is_err()
     {
@@ -927,6 +941,9 @@ pub fn solve_to_tolerance(
             c.warnings.push(w.clone());
         }
         if let (false, Some(w)) = (c.converged, &memory_note) {
+            c.warnings.push(w.clone());
+        }
+        if let (false, Some(w)) = (c.converged, &limit_note) {
             c.warnings.push(w.clone());
         }
         c

@@ -324,6 +324,27 @@ fn a_largest_n_below_two_resolutions_is_refused_by_name() {
     assert!(solve_to_tolerance(&sec, &Options::default(), 1e-8, 128).is_ok());
 }
 
+/// A largest n above what a solve accepts (n ≤ 2^19, n/k ≤ 8192) is
+/// lowered to the largest rung a solve takes, with a warning when the
+/// result is not converged: the ellipse 1 × 0.01 at 1e-14 with
+/// `--max-n 2000000` stopped with an error at n = 32 768 (n/k = 16 384).
+/// The circle at an unreachable 1e-17 climbs to n = 2^19 (folded to 16).
+#[test]
+fn a_largest_n_above_what_a_solve_takes_is_lowered_with_a_warning() {
+    let sec = sections::circle(1.0).unwrap();
+    let c = solve_to_tolerance(&sec, &Options::default(), 1e-17, 2_000_000).unwrap();
+    assert!(!c.converged);
+    assert_eq!(c.solution.options.n, 1 << 19);
+    assert!(
+        c.warnings
+            .iter()
+            .any(|w| w.contains("--max-n 2000000 lowered to n = 524288")),
+        "{:?}",
+        c.warnings
+    );
+    assert!((c.solution.torsional_rigidity / std::f64::consts::FRAC_PI_2 - 1.0).abs() < 1e-12);
+}
+
 /// A tube whose wall is below the rounding of its radii encloses no area
 /// to round-off: the error says so (it was reported as a polar moment
 /// out of range, I_p = −4.4e-16).
