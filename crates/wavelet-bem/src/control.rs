@@ -246,10 +246,7 @@ fn starting_nodes(section: &Section, opts: &Options) -> usize {
 ///
 /// [`Parametrisation::exact_for`]: crate::grading::Parametrisation::exact_for
 pub fn rung_base(section: &Section, opts: &Options) -> usize {
-    if !(opts.symmetry
-        && opts.method == Method::Daubechies
-        && opts.linear == crate::solve::LinearSolver::Dense)
-    {
+    if !crate::solve::may_fold(opts) {
         return 1;
     }
     let outer = section.curves()[0];
@@ -284,10 +281,10 @@ pub fn rung_base(section: &Section, opts: &Options) -> usize {
 /// 2000-gon's τ_max was 2.3e-4 off while n and n/2 agreed to 7.4e-6, an
 /// estimate that arc length's floors do not understate.
 pub fn prepared<'a>(section: &'a Section, opts: &Options, largest: usize) -> Cow<'a, Section> {
-    let foldable = opts.symmetry
-        && opts.method == Method::Daubechies
-        && opts.linear == crate::solve::LinearSolver::Dense;
-    if !foldable || !section.holes.is_empty() || !section.nearly_smooth_polygon() {
+    if !crate::solve::may_fold(opts)
+        || !section.holes.is_empty()
+        || !section.nearly_smooth_polygon()
+    {
         return Cow::Borrowed(section);
     }
     let m = section.pieces.len();
@@ -897,31 +894,36 @@ pub fn solve_to_tolerance(
     let mut n_max = rungs.at_most(n_max.min(crate::solve::FOLDED_N_MAX));
     // (a folded system is of order K n/k)
     let order = |n: usize| n / crate::solve::symmetry_order(section, &Options { n, ..*opts });
-    // the largest rung a solve accepts (n/k ≤ HARD_N_MAX, n ≤ FOLDED_N_MAX):
-    // a larger --max-n ran the ladder into a solve that refused it (the
-    // ellipse 1 × 0.01 at 1e-14 stopped with an error at n = 32 768)
-    while n_max / 2 >= min_n(opts) && order(n_max) > crate::solve::HARD_N_MAX {
+    // the largest rung a solve accepts (n/k ≤ HARD_N_MAX, n ≤ FOLDED_N_MAX;
+    // a larger --max-n ran the ladder into a solve that refused it: the
+    // ellipse 1 × 0.01 at 1e-14 stopped with an error at n = 32 768), then
+    // the largest whose dense solve fits in memory; the fold order of each
+    // rung tried is found once
+    let mut limited = asked > crate::solve::FOLDED_N_MAX;
+    let mut memory = None;
+    while n_max / 2 >= min_n(opts) {
+        let k_order = order(n_max);
+        if k_order > crate::solve::HARD_N_MAX {
+            limited = true;
+        } else if crate::memory::check(opts.method, curves, k_order).is_err() {
+            memory = Some((n_max, k_order));
+        } else {
+            break;
+        }
         n_max /= 2;
     }
-    let limit_note = (n_max < rungs.at_most(asked)).then(|| {
+    let limit_note = limited.then(|| {
         format!(
             "--max-n {asked} lowered to n = {n_max}: a solve takes at most {} unknowns per curve, n/k for a section it folds by a k-fold rotation, and n ≤ {}",
             crate::solve::HARD_N_MAX,
             crate::solve::FOLDED_N_MAX
         )
     });
-    // the largest rung allowed: below it only for lack of memory
-    let top = n_max;
-    while n_max / 2 >= min_n(opts)
-        && crate::memory::check(opts.method, curves, order(n_max)).is_err()
-    {
-        n_max /= 2;
-    }
-    let memory_note = (n_max < top).then(|| {
+    // the rung that did not fit, and its order
+    let memory_note = memory.map(|(n, k_order)| {
         format!(
-            "at most n = {n_max} per curve fits in the memory available (n = {} on {curves} curve(s) would need about {:.1} GB)",
-            2 * n_max,
-            crate::memory::dense_bytes(opts.method, curves, order(2 * n_max)) as f64 / 1e9
+            "at most n = {n_max} per curve fits in the memory available (n = {n} on {curves} curve(s) would need about {:.1} GB)",
+            crate::memory::dense_bytes(opts.method, curves, k_order) as f64 / 1e9
         )
     });
     let n0 = rungs.at_least(starting_nodes(section, opts).max(opts.n));

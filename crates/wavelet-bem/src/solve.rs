@@ -278,10 +278,16 @@ fn parametrisations(section: &Section, opts: &Options) -> Vec<Parametrisation> {
         .collect()
 }
 
+/// Whether a solve with `opts` may fold its system by a rotational
+/// symmetry: the dense Daubechies solver with `opts.symmetry` on.
+pub fn may_fold(opts: &Options) -> bool {
+    opts.symmetry && opts.method == Method::Daubechies && opts.linear == LinearSolver::Dense
+}
+
 /// The order k of the rotational symmetry a solve folds its system by
-/// (1: none, or not the dense Daubechies solver, or `opts.symmetry` off).
+/// (1: none, or not [`may_fold`]).
 fn fold_order(section: &Section, params: &[Parametrisation], opts: &Options) -> usize {
-    if !(opts.symmetry && opts.method == Method::Daubechies && opts.linear == LinearSolver::Dense) {
+    if !may_fold(opts) {
         return 1;
     }
     let nodes: Vec<BPoint> = section
