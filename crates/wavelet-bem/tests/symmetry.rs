@@ -288,9 +288,10 @@ fn odd_rotations_fold_on_their_own_rungs() {
 /// over their length: the regular 3000-gon's edges (2.1e-3 long, vertices
 /// from cos and sin) differ by 1.0e-12 of their length, beyond the plain
 /// relative tolerance 1e-12. Scaled by the shortest piece
-/// (`symmetry::relative_tolerance`), its graded nodes at 16 per edge keep
-/// their 3000-fold rotation; a vertex moved by 1e-11 (100 times the
-/// position tolerance) still breaks it, and the square keeps 1e-12.
+/// (`symmetry::relative_tolerance`: 1e-13 R / L = 4.8e-11 here), its graded
+/// nodes at 16 per edge keep their 3000-fold rotation. The test stays a
+/// test: one node's tangent stretched by 1e-11 (within it) keeps the
+/// rotation, by 1e-9 (20 times it) breaks every one; the square keeps 1e-12.
 #[test]
 fn short_edges_keep_their_rotation_to_round_off() {
     let p = sections::regular_polygon(3000, 1.0).unwrap();
@@ -298,16 +299,18 @@ fn short_edges_keep_their_rotation_to_round_off() {
     assert!(tol > 1e-12 && tol < 1e-10, "{tol:e}");
     let graded = p.with_flat_vertices_graded();
     assert!(graded.pieces_of_equal_length());
-    assert_eq!(order_of(&graded, 48_000), 3000);
-    let mut pts: Vec<[f64; 2]> = (0..3000)
-        .map(|k| {
-            let a = 2.0 * std::f64::consts::PI * k as f64 / 3000.0;
-            [a.cos(), a.sin()]
-        })
-        .collect();
-    pts[11][1] += 1e-11;
-    let moved = sections::polygon(&pts).unwrap().with_flat_vertices_graded();
-    assert_eq!(order_of(&moved, 48_000), 1);
+    let n = 48_000;
+    assert_eq!(order_of(&graded, n), 3000);
+    let nodes = Parametrisation::with_zones(&graded, 8.0, None)
+        .exact_for(&graded, n)
+        .nodes(&graded, n);
+    let stretched = |factor: f64| {
+        let mut v = nodes.clone();
+        v[123].d1 = [v[123].d1[0] * factor, v[123].d1[1] * factor];
+        symmetry::rotation_order(&v, n, graded.centroid, graded.radius(), tol)
+    };
+    assert_eq!(stretched(1.0 + 1e-11), 3000);
+    assert_eq!(stretched(1.0 + 1e-9), 1);
     let square = sections::rectangle(1.0, 1.0).unwrap();
     assert_eq!(
         symmetry::relative_tolerance(&square),
