@@ -379,6 +379,13 @@ const DEFAULT_FOLDED_N_MAX: usize = 1 << 14;
 /// second (the regular 2000-gon may go to n = 256 000, folded to 128).
 const DEFAULT_WORK: usize = 4096 * 16384;
 
+/// The scale Γ's error is relative to: max(|Γ|, 10⁻⁶ I_p²/A) (Γ vanishes
+/// on circles and concentric tubes).
+fn gamma_scale(sec: &Section, gamma: f64) -> f64 {
+    let ip = sec.polar_moment();
+    gamma.abs().max(1e-6 * ip * ip / sec.area)
+}
+
 fn rel(a: f64, b: f64) -> f64 {
     let s = a.abs().max(b.abs());
     if s == 0.0 { 0.0 } else { (a - b).abs() / s }
@@ -714,7 +721,7 @@ fn finish(
     let sec = &fine.0.section;
     let ip = sec.polar_moment();
     let rg = (ip / sec.area).sqrt();
-    let g_scale = fine.2.warping_constant.abs().max(1e-6 * ip * ip / sec.area);
+    let g_scale = gamma_scale(sec, fine.2.warping_constant);
     let shear_centre_error = diffs(&refs, |a, b| {
         let (x, y) = (a.2.shear_centre, b.2.shear_centre);
         Some((x[0] - y[0]).hypot(x[1] - y[1]) / rg)
@@ -729,7 +736,10 @@ fn finish(
     .map_or(0.0, |d| {
         estimate(&d, pointwise_floor(floor), round_off, false)
     })
-    .max(flat_j);
+    .max(flat_j)
+    // the arithmetic of Γ's double integral: a bias the rungs share
+    .max(fine.2.round_off / g_scale);
+    let gamma_floor = fine.2.round_off / g_scale;
     // the τ away from the singular points is reported with its estimate,
     // and counts only when followed (see `followed`)
     let tau_counts = !sec.is_singular() || fine.0.options.corner_distance.is_some();
@@ -758,6 +768,11 @@ fn finish(
     {
         warnings.push(format!(
             "τ away from the singular points: estimated relative error {e:.1e}, above the tolerance {tol:.1e}; the refinement follows J, the shear centre and Γ of a section with re-entrant corners or cusps, and this value only when --corner-distance is given (on thin walls it needs a much finer n)"
+        ));
+    }
+    if gamma_floor > tol {
+        warnings.push(format!(
+            "Γ: the round-off of its double integral, about {gamma_floor:.1e} of Γ (its terms cancel to Γ; a bias every n shares), exceeds the tolerance {tol:.1e}: no finer n reduces it"
         ));
     }
     if !converged {
@@ -1018,7 +1033,12 @@ pub fn solve_to_tolerance(
                 let out_of_range = extreme_scale(section)
                     && !(c.warping.warping_constant.is_finite()
                         && c.warping.shear_centre.iter().all(|v| v.is_finite()));
-                if c.converged || at_cap || hopeless || out_of_range {
+                // Γ's round-off does not fall with n: a Γ held above the
+                // tolerance by it alone is flagged now, not after the
+                // largest n
+                let gamma_floor =
+                    c.warping.round_off / gamma_scale(section, c.warping.warping_constant);
+                if c.converged || at_cap || hopeless || out_of_range || gamma_floor > tol {
                     return Ok(with_start(c));
                 }
             }
