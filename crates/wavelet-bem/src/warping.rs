@@ -240,10 +240,14 @@ impl Nodes {
 /// the pair (i, j). So each pair is evaluated once, for both of its rows,
 /// by the row of P whose position (curve, index within the period) comes
 /// first ([`OmegaPairs::half_row`]): half the logarithms of whole rows.
-fn omega_squared_integral(nd: &Nodes, fold: usize) -> f64 {
+///
+/// Returns the integral and the size of its terms
+/// ([`OmegaPairs::magnitude`], for its round-off).
+fn omega_squared_integral(nd: &Nodes, fold: usize) -> (f64, f64) {
     let m = nd.m;
     let big = nd.pts.len();
     let pairs = OmegaPairs::new(nd);
+    let magnitude = pairs.magnitude();
     let h = 1.0 / m as f64;
     if fold > 1 {
         let period = m / fold;
@@ -262,7 +266,7 @@ fn omega_squared_integral(nd: &Nodes, fold: usize) -> f64 {
                 },
             )
             .collect();
-        return fold as f64 * h * terms.iter().sum::<f64>();
+        return (fold as f64 * h * terms.iter().sum::<f64>(), magnitude);
     }
     // Every kernel depends on the pair through r², ln r and the two normal
     // projections of x_i − x_j, and swapping i and j swaps the projections
@@ -292,9 +296,10 @@ fn omega_squared_integral(nd: &Nodes, fold: usize) -> f64 {
             chi[k] += c[k];
         }
     }
-    (0..big)
+    let integral = (0..big)
         .map(|i| (nd.omega[i] * chi[i] - psi[i] * nd.flux[i]) * pairs.speeds[i] * h)
-        .sum()
+        .sum();
+    (integral, magnitude)
 }
 
 /// Rows and columns sampled by `OmegaPairs::magnitude`.
@@ -712,13 +717,13 @@ impl TorsionSolution {
         } else {
             1
         };
-        let iww = omega_squared_integral(&nd, fold);
+        let (iww, magnitude) = omega_squared_integral(&nd, fold);
         let factor = if sec.holes.is_empty() {
             GAMMA_ROUND_OFF
         } else {
             GAMMA_ROUND_OFF_HOLES
         };
-        let round_off = factor * f64::EPSILON * OmegaPairs::new(&nd).magnitude();
+        let round_off = factor * f64::EPSILON * magnitude;
         let props = sec.properties();
         let delta = props.ixx * props.iyy - props.ixy * props.ixy;
         let xp = (props.ixy * ixw - props.iyy * iyw) / delta;
@@ -796,8 +801,8 @@ mod tests {
                 pts,
                 m,
             };
-            let whole = omega_squared_integral(&nd, 1);
-            let folded = omega_squared_integral(&nd, k);
+            let whole = omega_squared_integral(&nd, 1).0;
+            let folded = omega_squared_integral(&nd, k).0;
             assert!(whole.abs() > 1e-3, "{whole}");
             assert!(
                 (whole - folded).abs() < 1e-13 * whole.abs(),
