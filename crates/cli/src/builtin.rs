@@ -115,6 +115,10 @@ pub struct VesselOptions {
     /// Newton passes condensed onto the interface dofs where cheaper
     /// (false: full passes always).
     pub condensation: bool,
+    /// Every Newton pass solved to the full tolerances, also those an
+    /// outer update follows (false: inexact passes, see
+    /// `tecon_elastic::SolverOptions::pass_forcing`).
+    pub exact_passes: bool,
     /// Internal (operating) pressure applied after cooling, Pa.
     pub pressure: Option<f64>,
     /// Output times of the transient, s (the last is the end of cooling).
@@ -149,6 +153,7 @@ impl Default for VesselOptions {
             penalty_factor: tecon_contact::DEFAULT_PENALTY_FACTOR,
             augmented_lagrangian: Some(1e-4),
             condensation: true,
+            exact_passes: false,
             pressure: None,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
             analysis: Analysis::PlaneStrain,
@@ -367,6 +372,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             augmented_lagrangian: Some(o.augmented_lagrangian.unwrap_or(0.0)),
             reference_temperature: None,
             condensation: Some(o.condensation),
+            exact_passes: Some(o.exact_passes),
         },
         output: OutputSection {
             times,

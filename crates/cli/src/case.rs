@@ -362,6 +362,11 @@ pub struct MechanicalSection {
     /// them, where that is cheaper (default true; false: full passes
     /// always, as a cross-check: the answers agree to the tolerances).
     pub condensation: Option<bool>,
+    /// Every Newton pass solved to the full tolerances, also those an
+    /// outer update follows (default false: such passes may stop early,
+    /// the last one is exact; true as a cross-check: the answers agree to
+    /// the tolerances).
+    pub exact_passes: Option<bool>,
 }
 
 /// `[[mechanical.fix]]`.

@@ -79,6 +79,9 @@ pub struct MultilayerOptions {
     /// Newton passes condensed onto the interface dofs where cheaper
     /// (false: full passes always).
     pub condensation: bool,
+    /// Every Newton pass solved to the full tolerances (see
+    /// [`crate::builtin::VesselOptions::exact_passes`]).
+    pub exact_passes: bool,
     /// Capacity matrix of every stage's heat conduction.
     pub capacity: crate::case::Capacity,
 }
@@ -120,6 +123,7 @@ impl MultilayerOptions {
             pressure: None,
             quiet: false,
             condensation: true,
+            exact_passes: false,
             capacity: crate::case::Capacity::Consistent,
         })
     }
@@ -423,6 +427,11 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         augmented_lagrangian: Some(1e-4),
         max_iterations: 150,
         condensation: o.condensation,
+        pass_forcing: if o.exact_passes {
+            0.0
+        } else {
+            tecon_elastic::PASS_FORCING
+        },
         ..SolverOptions::default()
     };
     let mut temperature: Vec<f64> = Vec::new();

@@ -1072,6 +1072,7 @@ pub fn run(
     o.times = args.times.clone();
     o.quiet = args.quiet;
     o.condensation = !args.no_condensation;
+    o.exact_passes = args.exact_passes;
     o.capacity = crate::case::Capacity::parse(&args.capacity)?;
     if let Some(p) = args.pressure {
         if !(p.is_finite() && p > 0.0) {

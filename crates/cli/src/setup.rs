@@ -901,6 +901,11 @@ pub fn prepare<'m>(
         augmented_lagrangian: al,
         max_iterations: 150,
         condensation: mech.condensation.unwrap_or(true),
+        pass_forcing: if mech.exact_passes.unwrap_or(false) {
+            0.0
+        } else {
+            tecon_elastic::PASS_FORCING
+        },
         ..Default::default()
     };
     let mut stages = vec![Stage {

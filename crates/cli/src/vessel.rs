@@ -939,6 +939,11 @@ pub struct VesselArgs {
     /// interface dofs (a cross-check; the answers agree to the tolerances)
     #[arg(long)]
     pub no_condensation: bool,
+    /// Every Newton pass solved to the full tolerances, also those a
+    /// friction-limit update follows (a cross-check; the answers agree to
+    /// the tolerances)
+    #[arg(long)]
+    pub exact_passes: bool,
     /// Each interface element's own chord normal (the classical Goodman
     /// element, as in the paper) instead of one smoothed normal per node.
     #[arg(long)]
@@ -1085,6 +1090,7 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
         },
         augmented_lagrangian: if args.penalty_only { None } else { Some(1e-4) },
         condensation: !args.no_condensation,
+        exact_passes: args.exact_passes,
         normals: if args.element_normals {
             InterfaceNormals::Element
         } else {

@@ -251,8 +251,8 @@ fn five_staggered_layers_match_the_sequential_fit() {
 /// line search stopped) made the Newton passes ping-pong: on this mesh the
 /// run got through only after many cut-backs (493 s in the test profile,
 /// against 17 s now), and on the default mesh with the six default times
-/// stage 2 stopped at t = 1 s. Measured now: 145–165 Newton iterations per
-/// stage; `tecon vessel --layers 5` (default mesh, six times): 183–251 per
+/// stage 2 stopped at t = 1 s. Measured now: 101–167 Newton iterations per
+/// stage (138–152 with exact passes, `exact_passes`); `tecon vessel --layers 5` (default mesh, six times): 183–251 per
 /// stage, ring means within 1.4e-3.
 #[test]
 fn five_staggered_layers_converge_in_the_first_second() {

@@ -212,11 +212,28 @@ impl StaticSolver<'_> {
         let frozen_friction =
             self.options.friction_bound == FrictionBound::Frozen && self.has_friction();
         let mut u = self.u.clone();
+        // Inexact passes while friction-limit updates follow (see
+        // `SolverOptions::pass_forcing`); the next pass is exact once an
+        // update after an inexact one changed almost nothing. Without
+        // friction every pass is exact: a normal multiplier update from an
+        // unsettled contact zone undoes what the pass had found.
+        let mut exact_next = !frozen_friction;
+        // the last outer update followed an inexact pass
+        let mut after_inexact = false;
         // Newton passes; with the augmented Lagrangian, each pass is followed
         // by a multiplier update until the multipliers settle. `start` is the
         // state set the accepted pass started from.
         let (start, history) = loop {
             let pass = passes.len() + 1;
+            self.pass_forcing = if exact_next {
+                0.0
+            } else if pass == 1 {
+                // the first pass finds the contact zone of the new load:
+                // an update from a zone far from settled undoes much of it
+                FIRST_PASS_FORCING * self.options.pass_forcing
+            } else {
+                self.options.pass_forcing
+            };
             let (u_new, history) =
                 match self.newton_pass(&f_ext, loads, &committed, u.clone(), pass) {
                     Ok(r) => r,
@@ -228,6 +245,23 @@ impl StaticSolver<'_> {
                     // limits go halfway back towards those of the last converged
                     // pass, and every later update is under-relaxed. The fixed
                     // point, and so the answer, is the same.
+                    // An update from an inexact pass (its contact zone not
+                    // settled) can throw the next pass far off (a multilayer
+                    // ring: from 4e-4 of the force scale to 1): the update is
+                    // undone and the pass it came from solved exactly.
+                    Err(ElasticError::NotConverged { history, .. })
+                        if after_inexact && last_start.is_some() =>
+                    {
+                        total_iterations += history.len();
+                        max_pass = max_pass.max(history.len());
+                        passes.push(history);
+                        if let Some(prev) = &last_start {
+                            committed.clone_from(prev);
+                        }
+                        exact_next = true;
+                        after_inexact = false;
+                        continue;
+                    }
                     Err(ElasticError::NotConverged { history, .. })
                         if frozen_friction
                             && outer_cuts < MAX_OUTER_CUTS
@@ -279,13 +313,19 @@ impl StaticSolver<'_> {
             }
             let (max_friction_change, max_change) =
                 self.update_outer(&u, &mut committed, (frozen_friction, al.is_some()));
+            after_inexact = self.last_pass_inexact;
             let scale = max_p.max(f64::MIN_POSITIVE);
             let al_done = al.is_none_or(|tol| max_change <= tol * scale);
             let friction_done = max_friction_change <= self.options.friction_tolerance * scale;
             if al_done && friction_done {
-                // The last update changed almost nothing: the converged u
-                // stands, with the multipliers and limits it was computed with.
-                break (start, history);
+                if !self.last_pass_inexact {
+                    // The last update changed almost nothing: the converged u
+                    // stands, with the multipliers and limits it was computed with.
+                    break (start, history);
+                }
+                // an inexact pass: solved again, exactly, from the
+                // (almost unchanged) multipliers and limits
+                exact_next = true;
             }
             // Past the limit, the outer updates go on while they still
             // converge: the larger change (multipliers, friction limits)
@@ -367,6 +407,10 @@ impl StaticSolver<'_> {
         Ok((u, states, start, report))
     }
 }
+
+/// The forcing of the first pass of an increment, as a fraction of
+/// [`SolverOptions::pass_forcing`] (see there).
+const FIRST_PASS_FORCING: f64 = 0.1;
 
 /// Outer updates over which a loop past its limit must have halved its
 /// change to go on (see [`StaticSolver::increment`]).

@@ -38,7 +38,7 @@ mod staging;
 mod states;
 mod tracker;
 
-pub use options::{IncrementReport, InterfacePointResult, Loads, SolverOptions};
+pub use options::{IncrementReport, InterfacePointResult, Loads, PASS_FORCING, SolverOptions};
 pub use recovery::{
     QuadraticStresses, StressField, nodal_displacement, polar, quadratic_stresses, stresses,
     von_mises,
@@ -98,6 +98,11 @@ pub struct StaticSolver<'a> {
     /// The last failed increment stopped in its outer loop (frozen friction
     /// limits or multipliers still changing), not in a Newton pass.
     outer_stalled: bool,
+    /// The forcing of the next Newton pass (0: exact; see
+    /// [`SolverOptions::pass_forcing`]), and whether the last pass stopped
+    /// inexactly.
+    pass_forcing: f64,
+    last_pass_inexact: bool,
     u: Vec<f64>,
     /// `u` in the output gauge (see [`StaticSolver::displacement`]).
     gauged: Vec<f64>,
@@ -267,6 +272,8 @@ impl<'a> StaticSolver<'a> {
             interface_dofs,
             lu: None,
             outer_stalled: false,
+            pass_forcing: 0.0,
+            last_pass_inexact: false,
             u: vec![0.0; n],
             gauged: vec![0.0; n],
             gauges: Vec::new(),

@@ -19,7 +19,8 @@ impl StaticSolver<'_> {
     ) -> Result<(Vec<f64>, Vec<IterationRecord>), ElasticError> {
         self.impose_prescribed(&mut u, loads);
         let opts = self.options;
-        let mut t = PassTracker::new(norm(f_ext), pass);
+        let mut t = PassTracker::new(norm(f_ext), pass).with_forcing(self.pass_forcing);
+        self.last_pass_inexact = false;
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
         // K u of the next iterate, when the line search has it already
         let mut next_ku: Option<Vec<f64>> = None;
@@ -43,10 +44,17 @@ impl StaticSolver<'_> {
             let accept = LINEAR_SHARE * tolerance * t.reference;
             let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
             if obs.done {
+                // an inexact pass (see `SolverOptions::pass_forcing`): an
+                // outer update follows
+                self.last_pass_inexact = t.inexact;
                 // open points carry no stiffness: a body that every one of
                 // its interface points has let go of is held by nothing,
                 // and the converged answer moves it arbitrarily
+                // (an inexact pass's statuses are still moving: a body held
+                // by friction alone may slip everywhere there; one whose
+                // points are all open is free whatever follows)
                 if obs.counts[0] > 0
+                    && (!t.inexact || obs.counts[0] == obs.status.len())
                     && !self
                         .held_statuses
                         .as_ref()

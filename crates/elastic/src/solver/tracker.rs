@@ -46,6 +46,12 @@ pub(super) struct PassTracker {
     /// Points already tried as sticking in this pass.
     stick_tried: Vec<bool>,
     pass: usize,
+    /// Inexact pass: the residual below which it may stop with statuses
+    /// still changing, as a multiple of the residual of its first iterate
+    /// (0: an exact pass), and whether it stopped there.
+    forcing: f64,
+    loose: f64,
+    pub inexact: bool,
 }
 
 impl PassTracker {
@@ -64,7 +70,17 @@ impl PassTracker {
             damping: false,
             stick_tried: Vec::new(),
             pass,
+            forcing: 0.0,
+            loose: 0.0,
+            inexact: false,
         }
+    }
+
+    /// This pass may stop once its residual is below `forcing` × that of
+    /// its first iterate (see [`SolverOptions::pass_forcing`]).
+    pub fn with_forcing(mut self, forcing: f64) -> Self {
+        self.forcing = forcing;
+        self
     }
 
     /// Records an iterate: its statuses (with the traction each point
@@ -149,7 +165,17 @@ impl PassTracker {
                 std::mem::take(&mut self.history),
             ));
         }
-        let done = converged || (rel == 0.0 && changed == 0);
+        if it == 0 {
+            self.loose = self.forcing * rel;
+        }
+        // an inexact pass stops once it is well below where it started
+        let loose = !converged
+            && it > 0
+            && self.loose > tolerance
+            && rel <= self.loose
+            && floor <= opts.residual_tolerance;
+        self.inexact = loose;
+        let done = converged || loose || (rel == 0.0 && changed == 0);
         if !done && self.ping_pong > opts.max_ping_pong {
             return Err(failure(
                 format!("contact status ping-pong ({} repeats)", self.ping_pong),
