@@ -647,5 +647,7 @@ fn inexact_passes_keep_the_answers() {
         if friction == 0.3 {
             assert!(n_i < n_e, "{n_i} iterations against {n_e}");
         }
+        assert_eq!(f(&exact, "/newton/inexact_passes"), 0.0);
+        assert!(f(&inexact, "/newton/inexact_passes") > 0.0);
     }
 }

@@ -609,6 +609,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     summary["newton_condensed_interface_dofs"] = json!(outcome.newton.condensed_dofs);
     summary["newton_failed_attempt_iterations"] = json!(outcome.newton.failed_iterations);
     summary["newton_coupled_increments"] = json!(outcome.newton.coupled_increments);
+    summary["newton_inexact_passes"] = json!(outcome.newton.inexact_passes);
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);
         summary["coupling"]["per_output"] = json!(

@@ -278,6 +278,9 @@ pub struct NewtonStats {
     /// Increments solved by the coupled Mohr–Coulomb Newton after the
     /// outer loop of the frozen friction limits stalled.
     pub coupled_increments: usize,
+    /// Newton passes that stopped before the full tolerance because a
+    /// friction-limit update followed (inexact passes).
+    pub inexact_passes: usize,
 }
 
 /// What the heat conduction did.
@@ -1037,6 +1040,11 @@ impl<'s> Contact<'s> {
         for r in &reports {
             self.newton.failed_iterations += r.failed_iterations;
             self.newton.coupled_increments += usize::from(r.coupled);
+            self.newton.inexact_passes += r
+                .passes
+                .iter()
+                .filter(|p| p.last().is_some_and(|h| h.inexact))
+                .count();
             self.newton.max_per_increment = self.newton.max_per_increment.max(r.iterations);
             self.newton.max_augmentations = self.newton.max_augmentations.max(r.augmentations);
         }

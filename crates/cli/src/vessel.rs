@@ -465,6 +465,9 @@ pub fn summary(run: &VesselRun) -> Value {
             // increments solved by the coupled Mohr–Coulomb Newton after the
             // outer loop of the frozen friction limits stalled
             "coupled_increments": run.newton.coupled_increments,
+            // passes stopped early because a friction-limit update
+            // followed (the last pass of every increment is exact)
+            "inexact_passes": run.newton.inexact_passes,
             // the bulk condensed onto this many interface dofs (null: full passes)
             "condensed_interface_dofs": run.newton.condensed_dofs,
         },

@@ -33,6 +33,10 @@ pub struct IterationRecord {
     /// True for a predicted step that was tried and discarded (a linear
     /// solve that did not move the iterate).
     pub rejected: bool,
+    /// True for the last iterate of a pass that stopped before its full
+    /// tolerance because an outer update follows (see
+    /// `SolverOptions::pass_forcing`).
+    pub inexact: bool,
 }
 
 impl std::fmt::Display for IterationRecord {
@@ -57,6 +61,9 @@ impl std::fmt::Display for IterationRecord {
                 self.predicted,
                 if self.rejected { " (rejected)" } else { "" }
             )?;
+        }
+        if self.inexact {
+            write!(f, ", inexact stop (an outer update follows)")?;
         }
         Ok(())
     }

@@ -143,6 +143,19 @@ impl PassTracker {
             && (last_correction <= opts.correction_tolerance
                 || rel <= tolerance * 1e-3
                 || full_step);
+        if it == 0 {
+            self.loose = self.forcing * rel;
+        }
+        // An inexact pass stops once it is well below where it started,
+        // unless the iterate has moved so far that its round-off floor is
+        // above the tolerance (a body drifting along a mode that friction
+        // alone holds).
+        let loose = !converged
+            && it > 0
+            && self.loose > tolerance
+            && rel <= self.loose
+            && floor <= opts.residual_tolerance;
+        self.inexact = loose;
         self.history.push(IterationRecord {
             pass: self.pass,
             iteration: it,
@@ -154,6 +167,7 @@ impl PassTracker {
             floor,
             predicted: 0,
             rejected: false,
+            inexact: loose,
         });
         if !rel.is_finite() {
             // no step can mend an overflow: Newton would iterate on NaN to
@@ -165,16 +179,6 @@ impl PassTracker {
                 std::mem::take(&mut self.history),
             ));
         }
-        if it == 0 {
-            self.loose = self.forcing * rel;
-        }
-        // an inexact pass stops once it is well below where it started
-        let loose = !converged
-            && it > 0
-            && self.loose > tolerance
-            && rel <= self.loose
-            && floor <= opts.residual_tolerance;
-        self.inexact = loose;
         let done = converged || loose || (rel == 0.0 && changed == 0);
         if !done && self.ping_pong > opts.max_ping_pong {
             return Err(failure(
