@@ -552,3 +552,35 @@ fn a_body_that_every_contact_lets_go_of_is_named() {
         "{e}"
     );
 }
+
+/// `mechanical.exact_passes = true` solves every Newton pass to the full
+/// tolerances (the cross-check of the inexact passes that a friction-limit
+/// update follows): the shrink fit (μ = 0.3) takes one inexact pass by
+/// default and none with the key, and its contact pressure is the same to
+/// the solver tolerances (the last pass is exact either way). A value that
+/// is not a boolean is refused, naming the key.
+#[test]
+fn exact_passes_key_gives_the_same_shrink_fit() {
+    let run = |text: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("fit.toml");
+        std::fs::write(&path, text).unwrap();
+        let c = case::load(&path).unwrap();
+        case::execute(&c, dir.path()).unwrap().summary
+    };
+    let key = "/times/0/interfaces/inner_outer/contact_pressure_mean";
+    let inexact = run(&edited("[mechanical]\n", "[mechanical]\n"));
+    let exact = run(&edited(
+        "[mechanical]\n",
+        "[mechanical]\nexact_passes = true\n",
+    ));
+    assert_eq!(num(&exact, "/newton_inexact_passes"), 0.0);
+    assert!(num(&inexact, "/newton_inexact_passes") > 0.0);
+    let (a, b) = (num(&exact, key), num(&inexact, key));
+    assert!(((a - b) / a).abs() < 1e-8, "exact {a}, inexact {b}");
+    let (e, _d) = error_of(&edited(
+        "[mechanical]\n",
+        "[mechanical]\nexact_passes = 3\n",
+    ));
+    assert!(e.contains("exact_passes"), "{e}");
+}
