@@ -237,18 +237,11 @@ impl StaticSolver<'_> {
             let (u_new, history) =
                 match self.newton_pass(&f_ext, loads, &committed, u.clone(), pass) {
                     Ok(r) => r,
-                    // A pass after an outer update that fails: the update moved
-                    // the friction limits too far for Newton (high friction: a
-                    // stick zone appears at once where everything slipped).
-                    // The load cannot be cut (from an unloaded state the problem
-                    // is the same at every load fraction), the update can: the
-                    // limits go halfway back towards those of the last converged
-                    // pass, and every later update is under-relaxed. The fixed
-                    // point, and so the answer, is the same.
-                    // An update from an inexact pass (its contact zone not
-                    // settled) can throw the next pass far off (a multilayer
-                    // ring: from 4e-4 of the force scale to 1): the update is
-                    // undone and the pass it came from solved exactly.
+                    // A pass that fails after an update from an inexact pass
+                    // (its statuses not settled; once on g0 at μ = 2, twice
+                    // on level 2 at μ = 5): the update is undone and the
+                    // pass it came from solved exactly, as before inexact
+                    // passes.
                     Err(ElasticError::NotConverged { history, .. })
                         if after_inexact && last_start.is_some() =>
                     {
@@ -262,6 +255,14 @@ impl StaticSolver<'_> {
                         after_inexact = false;
                         continue;
                     }
+                    // A pass after an outer update that fails: the update moved
+                    // the friction limits too far for Newton (high friction: a
+                    // stick zone appears at once where everything slipped).
+                    // The load cannot be cut (from an unloaded state the problem
+                    // is the same at every load fraction), the update can: the
+                    // limits go halfway back towards those of the last converged
+                    // pass, and every later update is under-relaxed. The fixed
+                    // point, and so the answer, is the same.
                     Err(ElasticError::NotConverged { history, .. })
                         if frozen_friction
                             && outer_cuts < MAX_OUTER_CUTS
