@@ -386,6 +386,12 @@ fn gamma_scale(sec: &Section, gamma: f64) -> f64 {
     gamma.abs().max(1e-6 * ip * ip / sec.area)
 }
 
+/// The round-off of Γ's double integral relative to [`gamma_scale`]: a
+/// floor no finer n lowers.
+fn gamma_floor(sec: &Section, w: &Warping) -> f64 {
+    w.round_off / gamma_scale(sec, w.warping_constant)
+}
+
 fn rel(a: f64, b: f64) -> f64 {
     let s = a.abs().max(b.abs());
     if s == 0.0 { 0.0 } else { (a - b).abs() / s }
@@ -722,6 +728,7 @@ fn finish(
     let ip = sec.polar_moment();
     let rg = (ip / sec.area).sqrt();
     let g_scale = gamma_scale(sec, fine.2.warping_constant);
+    let g_floor = gamma_floor(sec, &fine.2);
     let shear_centre_error = diffs(&refs, |a, b| {
         let (x, y) = (a.2.shear_centre, b.2.shear_centre);
         Some((x[0] - y[0]).hypot(x[1] - y[1]) / rg)
@@ -738,8 +745,7 @@ fn finish(
     })
     .max(flat_j)
     // the arithmetic of Γ's double integral: a bias the rungs share
-    .max(fine.2.round_off / g_scale);
-    let gamma_floor = fine.2.round_off / g_scale;
+    .max(g_floor);
     // the τ away from the singular points is reported with its estimate,
     // and counts only when followed (see `followed`)
     let tau_counts = !sec.is_singular() || fine.0.options.corner_distance.is_some();
@@ -770,9 +776,9 @@ fn finish(
             "τ away from the singular points: estimated relative error {e:.1e}, above the tolerance {tol:.1e}; the refinement follows J, the shear centre and Γ of a section with re-entrant corners or cusps, and this value only when --corner-distance is given (on thin walls it needs a much finer n)"
         ));
     }
-    if gamma_floor > tol {
+    if g_floor > tol {
         warnings.push(format!(
-            "Γ: the round-off of its double integral, about {gamma_floor:.1e} of Γ (its terms cancel to Γ; a bias every n shares), exceeds the tolerance {tol:.1e}: no finer n reduces it"
+            "Γ: the round-off of its double integral, about {g_floor:.1e} of Γ (its terms cancel to Γ; a bias every n shares), exceeds the tolerance {tol:.1e}: no finer n reduces it"
         ));
     }
     if !converged {
@@ -1036,9 +1042,12 @@ pub fn solve_to_tolerance(
                 // Γ's round-off does not fall with n: a Γ held above the
                 // tolerance by it alone is flagged now, not after the
                 // largest n
-                let gamma_floor =
-                    c.warping.round_off / gamma_scale(section, c.warping.warping_constant);
-                if c.converged || at_cap || hopeless || out_of_range || gamma_floor > tol {
+                if c.converged
+                    || at_cap
+                    || hopeless
+                    || out_of_range
+                    || gamma_floor(section, &c.warping) > tol
+                {
                     return Ok(with_start(c));
                 }
             }

@@ -296,7 +296,6 @@ impl StaticSolver<'_> {
         let gamma: Vec<usize> = cx.chol.gamma().to_vec();
         let m = gamma.len();
         let mut t = PassTracker::new(norm(f_ext), pass).with_forcing(self.pass_forcing);
-        self.last_pass_inexact = false;
         // The force scale and the round-off floor as the full pass has
         // them, ‖f_int‖ and ε ‖ |K_t| |u| + |f_ext| ‖: the rows of I at the
         // start of the pass (their internal forces equal the external ones
@@ -380,9 +379,6 @@ impl StaticSolver<'_> {
                 Err(e) => return Err(self.floating_or(e, &uf, committed)),
             };
             if obs.done {
-                // an inexact pass (see `SolverOptions::pass_forcing`): an
-                // outer update follows
-                self.last_pass_inexact = t.inexact;
                 // as in the full pass: a body that every interface point
                 // holding it has let go of is held by nothing
                 // (an inexact pass's statuses are still moving: a body held

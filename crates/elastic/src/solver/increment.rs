@@ -218,8 +218,8 @@ impl StaticSolver<'_> {
         // friction every pass is exact: a normal multiplier update from an
         // unsettled contact zone undoes what the pass had found.
         let mut exact_next = !frozen_friction;
-        // the last outer update followed an inexact pass
-        let mut after_inexact = false;
+        // a pass that stopped inexactly marks its last iterate
+        let inexact = |h: &[IterationRecord]| h.last().is_some_and(|r| r.inexact);
         // Newton passes; with the augmented Lagrangian, each pass is followed
         // by a multiplier update until the multipliers settle. `start` is the
         // state set the accepted pass started from.
@@ -243,7 +243,7 @@ impl StaticSolver<'_> {
                     // pass it came from solved exactly, as before inexact
                     // passes.
                     Err(ElasticError::NotConverged { history, .. })
-                        if after_inexact && last_start.is_some() =>
+                        if passes.last().is_some_and(|h| inexact(h)) && last_start.is_some() =>
                     {
                         total_iterations += history.len();
                         max_pass = max_pass.max(history.len());
@@ -252,7 +252,6 @@ impl StaticSolver<'_> {
                             committed.clone_from(prev);
                         }
                         exact_next = true;
-                        after_inexact = false;
                         continue;
                     }
                     // A pass after an outer update that fails: the update moved
@@ -314,12 +313,11 @@ impl StaticSolver<'_> {
             }
             let (max_friction_change, max_change) =
                 self.update_outer(&u, &mut committed, (frozen_friction, al.is_some()));
-            after_inexact = self.last_pass_inexact;
             let scale = max_p.max(f64::MIN_POSITIVE);
             let al_done = al.is_none_or(|tol| max_change <= tol * scale);
             let friction_done = max_friction_change <= self.options.friction_tolerance * scale;
             if al_done && friction_done {
-                if !self.last_pass_inexact {
+                if !inexact(&history) {
                     // The last update changed almost nothing: the converged u
                     // stands, with the multipliers and limits it was computed with.
                     break (start, history);

@@ -99,10 +99,8 @@ pub struct StaticSolver<'a> {
     /// limits or multipliers still changing), not in a Newton pass.
     outer_stalled: bool,
     /// The forcing of the next Newton pass (0: exact; see
-    /// [`SolverOptions::pass_forcing`]), and whether the last pass stopped
-    /// inexactly.
+    /// [`SolverOptions::pass_forcing`]).
     pass_forcing: f64,
-    last_pass_inexact: bool,
     u: Vec<f64>,
     /// `u` in the output gauge (see [`StaticSolver::displacement`]).
     gauged: Vec<f64>,
@@ -273,7 +271,6 @@ impl<'a> StaticSolver<'a> {
             lu: None,
             outer_stalled: false,
             pass_forcing: 0.0,
-            last_pass_inexact: false,
             u: vec![0.0; n],
             gauged: vec![0.0; n],
             gauges: Vec::new(),

@@ -20,7 +20,6 @@ impl StaticSolver<'_> {
         self.impose_prescribed(&mut u, loads);
         let opts = self.options;
         let mut t = PassTracker::new(norm(f_ext), pass).with_forcing(self.pass_forcing);
-        self.last_pass_inexact = false;
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
         // K u of the next iterate, when the line search has it already
         let mut next_ku: Option<Vec<f64>> = None;
@@ -44,9 +43,6 @@ impl StaticSolver<'_> {
             let accept = LINEAR_SHARE * tolerance * t.reference;
             let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
             if obs.done {
-                // an inexact pass (see `SolverOptions::pass_forcing`): an
-                // outer update follows
-                self.last_pass_inexact = t.inexact;
                 // open points carry no stiffness: a body that every one of
                 // its interface points has let go of is held by nothing,
                 // and the converged answer moves it arbitrarily
