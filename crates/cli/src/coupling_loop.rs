@@ -377,17 +377,58 @@ struct Attempt {
     extremes: Option<StepExtremes>,
 }
 
+/// Where the Newton iterations of a block's contact solve start.
+#[derive(Clone, Copy)]
+enum Guess<'g> {
+    /// The block's start (the checkpoint).
+    Start,
+    /// A contact state (the solve before, of the same block).
+    State(&'g SolverState),
+    /// The block's start extrapolated along the change since the block
+    /// before (`older`, at the temperatures `t_older`), by the weight that
+    /// projects the block's temperature change onto that block's
+    /// ([`load_weight`]).
+    Extrapolated {
+        older: &'g SolverState,
+        t_older: &'g [f64],
+    },
+}
+
+/// The weight w of the extrapolated guess `start + w (start − older)`:
+/// the least-squares fit of the block's temperature change `t_end − t_start`
+/// by the change of the block before, `t_start − t_older`, in [0,
+/// [`MAX_GUESS_WEIGHT`]]. The mechanical load is linear in the temperatures,
+/// so this scales the last change by the load actually applied, where the
+/// ratio of the block lengths (the guess until 2026-11-28) overshoots
+/// once the cooling slows down: the first Newton step then pulled back
+/// the slip of hundreds of points, which the next passes had to undo.
+fn load_weight(t_end: &[f64], t_start: &[f64], t_older: &[f64]) -> f64 {
+    let (mut num, mut den) = (0.0, 0.0);
+    for ((e, s), o) in t_end.iter().zip(t_start).zip(t_older) {
+        num += (e - s) * (s - o);
+        den += (s - o) * (s - o);
+    }
+    if den > 0.0 {
+        (num / den).clamp(0.0, MAX_GUESS_WEIGHT)
+    } else {
+        0.0
+    }
+}
+
+/// Largest weight of an extrapolated guess ([`load_weight`]).
+const MAX_GUESS_WEIGHT: f64 = 4.0;
+
 impl Loop<'_, '_> {
     /// Thermal steps from `t0` at `time0` (steady when `steps` is empty) with
     /// the conductances of `used`, then the contact solve at the new
     /// temperatures from the checkpoint `start`, its Newton iterations
-    /// started from `guess` when given (see [`SolverState::resume_warm`]).
+    /// started from `guess` (see [`SolverState::resume_warm`]).
     fn attempt(
         &mut self,
         b: Block<'_>,
         used: &PointStates,
         start: &SolverState,
-        guess: Option<&SolverState>,
+        guess: Guess<'_>,
     ) -> Result<Attempt, DriverError> {
         let clock = std::time::Instant::now();
         conductances(self.setup, &mut self.model, used)?;
@@ -447,8 +488,14 @@ impl Loop<'_, '_> {
         // every attempt starts the contact from the start of the block (the
         // friction history), its iterations from the guess
         match guess {
-            Some(g) => self.contact.solver.resume_warm(start, g),
-            None => self.contact.solver.resume(start),
+            Guess::Start => self.contact.solver.resume(start),
+            Guess::State(g) => self.contact.solver.resume_warm(start, g),
+            Guess::Extrapolated { older, t_older } => {
+                let w = load_weight(&thermal.temperature, t0, t_older);
+                self.contact
+                    .solver
+                    .resume_warm(start, &start.extrapolated(older, w))
+            }
         }
         .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
         let stage = &self.setup.stages[0];
@@ -474,7 +521,7 @@ impl Loop<'_, '_> {
     /// A block iterated until the conductances settle: `used` ← the states
     /// `target` makes of the attempt's end states.
     /// The contact solves start from `checkpoint`, the first one's
-    /// iterations from `guess`, the later ones' from the solve before.
+    /// iterations from `first_guess`, the later ones' from the solve before.
     #[allow(clippy::too_many_arguments)]
     fn iterate(
         &mut self,
@@ -484,15 +531,21 @@ impl Loop<'_, '_> {
         midpoint: bool,
         c: TwoWay,
         checkpoint: &SolverState,
-        mut guess: Option<SolverState>,
+        first_guess: Guess<'_>,
     ) -> Result<(Attempt, usize, f64), DriverError> {
         let mut used = first_used;
         let mut h_used = conductances(self.setup, &mut self.model, &used)?;
         let mut iterations = 0;
+        let mut guess: Option<SolverState> = None;
         let mut relax = Aitken::default();
         loop {
             iterations += 1;
-            let a = self.attempt(b, &used, checkpoint, guess.as_ref())?;
+            let a = self.attempt(
+                b,
+                &used,
+                checkpoint,
+                guess.as_ref().map_or(first_guess, Guess::State),
+            )?;
             guess = Some(self.contact.solver.state());
             let next = if midpoint {
                 blend(start_states, &a.states, 0.5)
@@ -575,7 +628,7 @@ pub(crate) fn two_way<'s>(
             };
             let checkpoint = lp.contact.solver.state();
             let (a, iterations, change) =
-                lp.iterate(block, s0.clone(), &s0, false, c, &checkpoint, None)?;
+                lp.iterate(block, s0.clone(), &s0, false, c, &checkpoint, Guess::Start)?;
             lp.finish_block(iterations, change);
             max_res = a.balance.relative_residual();
             let mut state = a.state;
@@ -609,9 +662,10 @@ pub(crate) fn two_way<'s>(
             // interface states now and at the previous contact solve (time)
             let mut s_now = interface_states(setup, &lp.contact, &t);
             let mut previous: Option<(f64, PointStates)> = None;
-            // the contact state at the previous block start (time): the
-            // contact solves start from the state extrapolated from it
-            let mut older: Option<(f64, SolverState)> = None;
+            // the contact state and the temperatures at the previous block
+            // start (time): the contact solves start from the state
+            // extrapolated from it
+            let mut older: Option<(f64, SolverState, Vec<f64>)> = None;
             // fixed: `n` steps per block; adaptive: blocks of about
             // `target` seconds (at least one step, at most MAX_BLOCK)
             let n = c.sync_interval.max(1);
@@ -650,10 +704,10 @@ pub(crate) fn two_way<'s>(
                 };
                 let checkpoint = lp.contact.solver.state();
                 let guess = match &older {
-                    Some((to, so)) if time > *to && span > 0.0 => {
-                        Some(checkpoint.extrapolated(so, span / (time - to)))
+                    Some((to, so, t_older)) if time > *to && span > 0.0 => {
+                        Guess::Extrapolated { older: so, t_older }
                     }
-                    _ => None,
+                    _ => Guess::Start,
                 };
                 let (a, iterations, change) = match c.sync_tolerance {
                     None => {
@@ -668,7 +722,7 @@ pub(crate) fn two_way<'s>(
                             _ => s_now.clone(),
                         };
                         let h_used = conductances(setup, &mut lp.model, &used)?;
-                        let a = lp.attempt(block, &used, &checkpoint, guess.as_ref())?;
+                        let a = lp.attempt(block, &used, &checkpoint, guess)?;
                         let mid = blend(&s_now, &a.states, 0.5);
                         let h_mid = conductances(setup, &mut lp.model, &mid)?;
                         let e = max_rel_change(&h_mid, &h_used);
@@ -696,8 +750,15 @@ pub(crate) fn two_way<'s>(
                                 .solver
                                 .resume(&checkpoint)
                                 .map_err(|e| DriverError::Mechanical(Box::new(e)))?;
-                            let (a, it, change) =
-                                lp.iterate(block, mid, &s_now, true, c, &checkpoint, Some(solved))?;
+                            let (a, it, change) = lp.iterate(
+                                block,
+                                mid,
+                                &s_now,
+                                true,
+                                c,
+                                &checkpoint,
+                                Guess::State(&solved),
+                            )?;
                             target = Some(span * grow.max(0.2));
                             (a, it + 1, change.max(0.0))
                         } else {
@@ -713,7 +774,7 @@ pub(crate) fn two_way<'s>(
                 steps_taken += steps.iter().filter(|s| s.dt > 0.0).count();
                 if span > 0.0 {
                     previous = Some((time, std::mem::take(&mut s_now)));
-                    older = Some((time, checkpoint));
+                    older = Some((time, checkpoint, t.clone()));
                 }
                 time += span;
                 s_now = a.states;
@@ -790,7 +851,7 @@ pub(crate) fn two_way<'s>(
 
 #[cfg(test)]
 mod tests {
-    use super::{Aitken, next_target};
+    use super::{Aitken, MAX_GUESS_WEIGHT, load_weight, next_target};
 
     /// Iterates x ← x + ω (g(x) − x) with Aitken's ω until |g(x) − x| ≤ 1e-12;
     /// returns the iterations and the final x.
@@ -806,6 +867,33 @@ mod tests {
             x += w * (gx - x);
         }
         (usize::MAX, x)
+    }
+
+    #[test]
+    fn the_guess_weight_fits_the_temperature_change() {
+        let older = [20.0, 40.0, 60.0];
+        let start = [21.0, 38.0, 63.0];
+        // the same change again, scaled by 0.4: the fit recovers the scale
+        let end: Vec<f64> = start
+            .iter()
+            .zip(&older)
+            .map(|(s, o)| s + 0.4 * (s - o))
+            .collect();
+        assert!((load_weight(&end, &start, &older) - 0.4).abs() < 1e-14);
+        // a change orthogonal to the last one: no extrapolation
+        let end = [start[0] + 2.0, start[1] + 1.0, start[2]];
+        assert!(load_weight(&end, &start, &older).abs() < 1e-14);
+        // a reversal is not extrapolated backwards, a jump is capped
+        let back: Vec<f64> = start.iter().zip(&older).map(|(s, o)| s - (s - o)).collect();
+        assert_eq!(load_weight(&back, &start, &older), 0.0);
+        let jump: Vec<f64> = start
+            .iter()
+            .zip(&older)
+            .map(|(s, o)| s + 10.0 * (s - o))
+            .collect();
+        assert_eq!(load_weight(&jump, &start, &older), MAX_GUESS_WEIGHT);
+        // no change in the block before: no direction to extrapolate along
+        assert_eq!(load_weight(&end, &start, &start), 0.0);
     }
 
     #[test]
