@@ -350,6 +350,8 @@ struct Loop<'a, 's> {
     thermal_symbolic: Option<tecon_fem::CholeskySolver>,
     /// Nodes whose temperatures are recorded at every thermal step.
     history_nodes: &'a [usize],
+    /// The thermal system of the last attempt ([`ThermalModel::reassemble`]).
+    system: Option<tecon_thermal::ThermalSystem<'s>>,
 }
 
 /// A block of thermal steps from its start.
@@ -432,10 +434,13 @@ impl Loop<'_, '_> {
     ) -> Result<Attempt, DriverError> {
         let clock = std::time::Instant::now();
         conductances(self.setup, &mut self.model, used)?;
-        let system = self
-            .model
-            .assemble()
-            .map_err(DriverError::ThermalAssembly)?;
+        // only the interface conductances changed since the last attempt:
+        // the interfaces alone are re-assembled
+        let system = match &self.system {
+            Some(previous) => self.model.reassemble(previous),
+            None => self.model.assemble(),
+        }
+        .map_err(DriverError::ThermalAssembly)?;
         let Block { t0, time0, steps } = b;
         let mut history = Vec::new();
         let mut extremes = None;
@@ -476,7 +481,7 @@ impl Loop<'_, '_> {
             )
         };
         let element_temperature = system.element_means(&temperature);
-        drop(system);
+        self.system = Some(system);
         self.thermal_seconds += clock.elapsed().as_secs_f64();
         let thermal = ThermalState {
             time: steps.last().and_then(|s| s.output).unwrap_or(time),
@@ -607,6 +612,7 @@ pub(crate) fn two_way<'s>(
         contact_seconds: 0.0,
         thermal_symbolic: None,
         history_nodes,
+        system: None,
     };
     let mut history = None;
     let mut states: Vec<State> = Vec::new();

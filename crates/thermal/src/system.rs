@@ -7,7 +7,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 use tecon_fem::interface::{InterfaceGeometry, InterfaceQuadrature};
 use tecon_fem::{
-    Assembler, CholeskySolver, CsrMatrix, Dirichlet, DofMap, FemError, Parallelism,
+    Assembler, BlockId, CholeskySolver, CsrMatrix, Dirichlet, DofMap, FemError, Parallelism,
     PreparedDirichlet, RigidMode, check_rigid_modes, scalar_mode,
 };
 use tecon_mesh::Mesh;
@@ -60,7 +60,7 @@ impl BodyFlows {
 
 /// The quadratic (P2) parts of a system: element geometry and the 3-pair
 /// interface elements (the P1 lists are then empty).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct P2Parts<'m> {
     pub triangles: &'m [[usize; 6]],
     pub geometry: Vec<Triangle6>,
@@ -88,9 +88,17 @@ pub(crate) struct InterfaceRange {
 /// elements) and `C` (capacity) on one sparsity pattern, the load `F`
 /// (convective ambient and prescribed fluxes), the prescribed
 /// temperatures, and what the heat balance and the output need.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct ThermalSystem<'m> {
     pub(crate) mesh: &'m Mesh,
+    /// The revision of the model it was assembled from (see
+    /// [`crate::ThermalModel::reassemble`]).
+    pub(crate) revision: u64,
+    /// K without the interface elements (conduction and convection), to
+    /// re-assemble the interfaces alone.
+    pub(crate) k_bulk: CsrMatrix,
+    /// The interface elements' block of the assembler.
+    pub(crate) interface_block: BlockId,
     pub(crate) element_conductivity: Vec<f64>,
     pub(crate) assembler: Assembler,
     pub(crate) k: CsrMatrix,
@@ -138,6 +146,8 @@ pub(crate) struct SystemInput<'m> {
     pub initial: Option<(Vec<f64>, Vec<f64>)>,
     /// `Some` for a P2 mesh (`convection` and `interfaces` are then empty).
     pub p2: Option<P2Input<'m>>,
+    /// The model's revision.
+    pub revision: u64,
 }
 
 impl<'m> ThermalSystem<'m> {
@@ -148,7 +158,7 @@ impl<'m> ThermalSystem<'m> {
         let triangles = mesh.triangles();
         let mut load = vec![0.0; n];
         let mut builder = tecon_fem::AssemblerBuilder::new(n);
-        let (assembler, k, c, p2) = match input.p2 {
+        let (assembler, k_bulk, k, c, p2, interface_block) = match input.p2 {
             None => {
                 let cond = ConductionElements {
                     nodes,
@@ -175,9 +185,10 @@ impl<'m> ThermalSystem<'m> {
                     Some(&mut load),
                     Parallelism::Rayon,
                 )?;
+                let k_bulk = k.clone();
                 assembler.add(b_int, &input.interfaces, &mut k, None, Parallelism::Rayon)?;
                 assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
-                (assembler, k, c, None)
+                (assembler, k_bulk, k, c, None, b_int)
             }
             Some(p2) => {
                 let cond = Conduction6Elements {
@@ -205,9 +216,10 @@ impl<'m> ThermalSystem<'m> {
                     Some(&mut load),
                     Parallelism::Rayon,
                 )?;
+                let k_bulk = k.clone();
                 assembler.add(b_int, &p2.interfaces, &mut k, None, Parallelism::Rayon)?;
                 assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
-                (assembler, k, c, Some(p2))
+                (assembler, k_bulk, k, c, Some(p2), b_int)
             }
         };
         let mut flux_load = 0.0;
@@ -292,6 +304,9 @@ impl<'m> ThermalSystem<'m> {
         let total_capacity: f64 = capacity_weights.iter().sum();
         Ok(ThermalSystem {
             mesh,
+            revision: input.revision,
+            k_bulk,
+            interface_block,
             element_conductivity: input.conductivity,
             assembler,
             k,
@@ -318,6 +333,49 @@ impl<'m> ThermalSystem<'m> {
                 interfaces: p.interfaces,
             }),
         })
+    }
+
+    /// The same system with new interface conductances (h at the points
+    /// of each P1 element, or of each 3-pair P2 element, in the system's
+    /// order): K re-assembled from its bulk part, everything else kept.
+    /// The result equals a full assembly with those conductances bit for
+    /// bit (the same sums in the same order).
+    pub(crate) fn with_interface_conductances(
+        &self,
+        h1: Vec<[f64; 2]>,
+        h3: Vec<[f64; 3]>,
+    ) -> Result<Self, ThermalError> {
+        let mut out = self.clone();
+        out.k = self.k_bulk.clone();
+        match &mut out.p2 {
+            None => {
+                out.interface_elements.h_c = h1;
+                out.assembler.add(
+                    self.interface_block,
+                    &out.interface_elements,
+                    &mut out.k,
+                    None,
+                    Parallelism::Rayon,
+                )?;
+            }
+            Some(p2) => {
+                p2.interfaces.h_c = h3;
+                out.assembler.add(
+                    self.interface_block,
+                    &p2.interfaces,
+                    &mut out.k,
+                    None,
+                    Parallelism::Rayon,
+                )?;
+            }
+        }
+        // the prescribed rows keep their K values for the heat balance
+        let (p, values) = (out.assembler.pattern().clone(), out.k.values().to_vec());
+        for row in &mut out.constrained {
+            let r = p.indptr()[row.dof]..p.indptr()[row.dof + 1];
+            row.k = values[r].to_vec();
+        }
+        Ok(out)
     }
 
     /// Element order of the system: 1 (linear) or 2 (6-node triangles).
