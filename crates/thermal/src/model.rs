@@ -649,6 +649,16 @@ impl<'m> ThermalModel<'m> {
             initial,
             p2,
             revision: self.revision,
+            // only a state-dependent conductance is ever re-assembled
+            keep_bulk: self.interfaces.values().any(|i| {
+                matches!(
+                    i,
+                    InterfaceSpec::Law {
+                        states: Some(_),
+                        ..
+                    }
+                )
+            }),
         })
     }
 
@@ -657,14 +667,18 @@ impl<'m> ThermalModel<'m> {
     /// interface states only ([`ThermalModel::set_interface_state`]): then
     /// only the interface elements are re-assembled, onto the stored bulk
     /// K, and the result equals [`ThermalModel::assemble`]'s bit for bit.
-    /// Otherwise (another setter was called) it is a full assembly. The
+    /// Otherwise (another setter was called, or `previous` had no interface
+    /// states set, so did not keep its bulk K) it is a full assembly. The
     /// two-way coupling re-assembles at every block attempt with new
     /// conductances, and the full assembly was about 5 % of its time.
     pub fn reassemble(
         &self,
         previous: &ThermalSystem<'m>,
     ) -> Result<ThermalSystem<'m>, ThermalError> {
-        if previous.revision != self.revision || !std::ptr::eq(previous.mesh, self.mesh) {
+        if previous.revision != self.revision
+            || !std::ptr::eq(previous.mesh, self.mesh)
+            || previous.k_bulk.is_none()
+        {
             return self.assemble();
         }
         let quadratic = previous.p2.is_some();
@@ -685,7 +699,10 @@ impl<'m> ThermalModel<'m> {
                 }
             }
         }
-        previous.with_interface_conductances(h1, h3)
+        match previous.with_interface_conductances(h1, h3) {
+            Some(system) => system,
+            None => self.assemble(),
+        }
     }
 
     /// Assembles and solves the steady problem.

@@ -95,8 +95,9 @@ pub struct ThermalSystem<'m> {
     /// [`crate::ThermalModel::reassemble`]).
     pub(crate) revision: u64,
     /// K without the interface elements (conduction and convection), to
-    /// re-assemble the interfaces alone.
-    pub(crate) k_bulk: CsrMatrix,
+    /// re-assemble the interfaces alone; kept only when an interface's
+    /// conductance depends on its state (one K more in memory).
+    pub(crate) k_bulk: Option<CsrMatrix>,
     /// The interface elements' block of the assembler.
     pub(crate) interface_block: BlockId,
     pub(crate) element_conductivity: Vec<f64>,
@@ -148,6 +149,8 @@ pub(crate) struct SystemInput<'m> {
     pub p2: Option<P2Input<'m>>,
     /// The model's revision.
     pub revision: u64,
+    /// Keep K without the interfaces ([`ThermalSystem::k_bulk`]).
+    pub keep_bulk: bool,
 }
 
 impl<'m> ThermalSystem<'m> {
@@ -185,7 +188,7 @@ impl<'m> ThermalSystem<'m> {
                     Some(&mut load),
                     Parallelism::Rayon,
                 )?;
-                let k_bulk = k.clone();
+                let k_bulk = input.keep_bulk.then(|| k.clone());
                 assembler.add(b_int, &input.interfaces, &mut k, None, Parallelism::Rayon)?;
                 assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
                 (assembler, k_bulk, k, c, None, b_int)
@@ -216,7 +219,7 @@ impl<'m> ThermalSystem<'m> {
                     Some(&mut load),
                     Parallelism::Rayon,
                 )?;
-                let k_bulk = k.clone();
+                let k_bulk = input.keep_bulk.then(|| k.clone());
                 assembler.add(b_int, &p2.interfaces, &mut k, None, Parallelism::Rayon)?;
                 assembler.add(b_tri, &cap, &mut c, None, Parallelism::Rayon)?;
                 (assembler, k_bulk, k, c, Some(p2), b_int)
@@ -339,14 +342,25 @@ impl<'m> ThermalSystem<'m> {
     /// of each P1 element, or of each 3-pair P2 element, in the system's
     /// order): K re-assembled from its bulk part, everything else kept.
     /// The result equals a full assembly with those conductances bit for
-    /// bit (the same sums in the same order).
+    /// bit (the same sums in the same order). None if the bulk part was not
+    /// kept.
     pub(crate) fn with_interface_conductances(
         &self,
         h1: Vec<[f64; 2]>,
         h3: Vec<[f64; 3]>,
+    ) -> Option<Result<Self, ThermalError>> {
+        let k_bulk = self.k_bulk.as_ref()?;
+        Some(self.rebuilt_interfaces(k_bulk.clone(), h1, h3))
+    }
+
+    fn rebuilt_interfaces(
+        &self,
+        k: CsrMatrix,
+        h1: Vec<[f64; 2]>,
+        h3: Vec<[f64; 3]>,
     ) -> Result<Self, ThermalError> {
         let mut out = self.clone();
-        out.k = self.k_bulk.clone();
+        out.k = k;
         match &mut out.p2 {
             None => {
                 out.interface_elements.h_c = h1;
