@@ -436,7 +436,7 @@ impl Loop<'_, '_> {
         conductances(self.setup, &mut self.model, used)?;
         // only the interface conductances changed since the last attempt:
         // the interfaces alone are re-assembled
-        let system = match &self.system {
+        let system = match self.system.take() {
             Some(previous) => self.model.reassemble(previous),
             None => self.model.assemble(),
         }

@@ -662,8 +662,8 @@ impl<'m> ThermalModel<'m> {
         })
     }
 
-    /// The system of this model, re-using `previous` (assembled from this
-    /// model or a clone of it) when the model has changed since in its
+    /// The system of this model, made from `previous` (assembled from this
+    /// model or a clone of it; consumed) when the model has changed since in its
     /// interface states only ([`ThermalModel::set_interface_state`]): then
     /// only the interface elements are re-assembled, onto the stored bulk
     /// K, and the result equals [`ThermalModel::assemble`]'s bit for bit.
@@ -673,14 +673,14 @@ impl<'m> ThermalModel<'m> {
     /// conductances, and the full assembly was about 5 % of its time.
     pub fn reassemble(
         &self,
-        previous: &ThermalSystem<'m>,
+        previous: ThermalSystem<'m>,
     ) -> Result<ThermalSystem<'m>, ThermalError> {
-        if previous.revision != self.revision
-            || !std::ptr::eq(previous.mesh, self.mesh)
-            || previous.k_bulk.is_none()
-        {
+        if previous.revision != self.revision || !std::ptr::eq(previous.mesh, self.mesh) {
             return self.assemble();
         }
+        let Some(k_bulk) = previous.k_bulk.clone() else {
+            return self.assemble();
+        };
         let quadratic = previous.p2.is_some();
         let (mut h1, mut h3) = (Vec::new(), Vec::new());
         for r in &previous.interface_ranges {
@@ -699,10 +699,7 @@ impl<'m> ThermalModel<'m> {
                 }
             }
         }
-        match previous.with_interface_conductances(h1, h3) {
-            Some(system) => system,
-            None => self.assemble(),
-        }
+        previous.with_interface_conductances(k_bulk, h1, h3)
     }
 
     /// Assembles and solves the steady problem.

@@ -60,7 +60,7 @@ impl BodyFlows {
 
 /// The quadratic (P2) parts of a system: element geometry and the 3-pair
 /// interface elements (the P1 lists are then empty).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub(crate) struct P2Parts<'m> {
     pub triangles: &'m [[usize; 6]],
     pub geometry: Vec<Triangle6>,
@@ -88,7 +88,7 @@ pub(crate) struct InterfaceRange {
 /// elements) and `C` (capacity) on one sparsity pattern, the load `F`
 /// (convective ambient and prescribed fluxes), the prescribed
 /// temperatures, and what the heat balance and the output need.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct ThermalSystem<'m> {
     pub(crate) mesh: &'m Mesh,
     /// The revision of the model it was assembled from (see
@@ -340,56 +340,46 @@ impl<'m> ThermalSystem<'m> {
 
     /// The same system with new interface conductances (h at the points
     /// of each P1 element, or of each 3-pair P2 element, in the system's
-    /// order): K re-assembled from its bulk part, everything else kept.
-    /// The result equals a full assembly with those conductances bit for
-    /// bit (the same sums in the same order). None if the bulk part was not
-    /// kept.
+    /// order): K is `k_bulk` (this system's K without its interfaces) with
+    /// the interface elements added again, everything else kept. The result
+    /// equals a full assembly with those conductances bit for bit (the same
+    /// sums in the same order).
     pub(crate) fn with_interface_conductances(
-        &self,
-        h1: Vec<[f64; 2]>,
-        h3: Vec<[f64; 3]>,
-    ) -> Option<Result<Self, ThermalError>> {
-        let k_bulk = self.k_bulk.as_ref()?;
-        Some(self.rebuilt_interfaces(k_bulk.clone(), h1, h3))
-    }
-
-    fn rebuilt_interfaces(
-        &self,
-        k: CsrMatrix,
+        mut self,
+        k_bulk: CsrMatrix,
         h1: Vec<[f64; 2]>,
         h3: Vec<[f64; 3]>,
     ) -> Result<Self, ThermalError> {
-        let mut out = self.clone();
-        out.k = k;
-        match &mut out.p2 {
+        self.k = k_bulk;
+        match &mut self.p2 {
             None => {
-                out.interface_elements.h_c = h1;
-                out.assembler.add(
+                self.interface_elements.h_c = h1;
+                self.assembler.add(
                     self.interface_block,
-                    &out.interface_elements,
-                    &mut out.k,
+                    &self.interface_elements,
+                    &mut self.k,
                     None,
                     Parallelism::Rayon,
                 )?;
             }
             Some(p2) => {
                 p2.interfaces.h_c = h3;
-                out.assembler.add(
+                self.assembler.add(
                     self.interface_block,
                     &p2.interfaces,
-                    &mut out.k,
+                    &mut self.k,
                     None,
                     Parallelism::Rayon,
                 )?;
             }
         }
         // the prescribed rows keep their K values for the heat balance
-        let (p, values) = (out.assembler.pattern().clone(), out.k.values().to_vec());
-        for row in &mut out.constrained {
+        let p = self.assembler.pattern();
+        for row in &mut self.constrained {
             let r = p.indptr()[row.dof]..p.indptr()[row.dof + 1];
-            row.k = values[r].to_vec();
+            row.k = self.k.values()[r].to_vec();
         }
-        Ok(out)
+        Ok(self)
     }
 
     /// Element order of the system: 1 (linear) or 2 (6-node triangles).
