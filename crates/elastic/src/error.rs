@@ -27,6 +27,10 @@ pub struct IterationRecord {
     /// make it large), so the iteration converges at the larger of the
     /// tolerance and this floor.
     pub floor: f64,
+    /// True when `floor` is an upper bound of the floor (below the
+    /// tolerance, where the exact value changes nothing) rather than the
+    /// floor itself.
+    pub floor_is_bound: bool,
     /// Points the step assumed open ahead of an opening front (see the
     /// solver's front prediction); 0 for an exact Newton step.
     pub predicted: usize,
@@ -43,9 +47,10 @@ impl std::fmt::Display for IterationRecord {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "it {:>2}: |R|/ref = {:.3e} (floor {:.1e}), |du|/|u| = {:.3e}, step {:.3}, open/stick/slip = {}/{}/{}, changed {}",
+            "it {:>2}: |R|/ref = {:.3e} (floor {}{:.1e}), |du|/|u| = {:.3e}, step {:.3}, open/stick/slip = {}/{}/{}, changed {}",
             self.iteration,
             self.residual,
+            if self.floor_is_bound { "≤ " } else { "" },
             self.floor,
             self.correction,
             self.step,

@@ -94,6 +94,10 @@ pub struct StaticSolver<'a> {
     /// Dofs of the interface elements' nodes: the only rows of the tangent
     /// that change within a contact solve.
     interface_dofs: Vec<usize>,
+    /// The largest row sum of |K_bulk| over the rows that no interface
+    /// touches (there the tangent is K_bulk): with the interface rows' sums
+    /// of the tangent, a bound of ‖ |K_t| ‖ (see [`newton::floor_or_bound`]).
+    rest_row_abs: f64,
     lu: Option<LuSolver>,
     /// The last failed increment stopped in its outer loop (frozen friction
     /// limits or multipliers still changing), not in a Newton pass.
@@ -248,6 +252,10 @@ impl<'a> StaticSolver<'a> {
             .iter()
             .map(|i| i.law.with_friction_bound(options.friction_bound))
             .collect();
+        let rest_row_abs = newton::max_row_abs(
+            &k_bulk,
+            (0..n).filter(|i| interface_dofs.binary_search(i).is_err()),
+        );
         Ok(StaticSolver {
             model,
             laws,
@@ -267,6 +275,7 @@ impl<'a> StaticSolver<'a> {
             condensed: None,
             condensed_failed: false,
             condensed_choice: None,
+            rest_row_abs,
             interface_dofs,
             lu: None,
             outer_stalled: false,

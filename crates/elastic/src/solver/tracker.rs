@@ -52,6 +52,9 @@ pub(super) struct PassTracker {
     forcing: f64,
     loose: f64,
     pub inexact: bool,
+    /// The floor given to the next [`PassTracker::observe`] is a bound
+    /// (see `IterationRecord::floor_is_bound`).
+    pub floor_is_bound: bool,
 }
 
 impl PassTracker {
@@ -73,6 +76,7 @@ impl PassTracker {
             forcing: 0.0,
             loose: 0.0,
             inexact: false,
+            floor_is_bound: false,
         }
     }
 
@@ -165,6 +169,7 @@ impl PassTracker {
             status: counts,
             changed,
             floor,
+            floor_is_bound: self.floor_is_bound,
             predicted: 0,
             rejected: false,
             inexact: loose,
