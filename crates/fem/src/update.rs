@@ -74,6 +74,9 @@ pub struct UpdatedCholesky {
     max_rank: usize,
     tolerance: f64,
     stats: UpdateStats,
+    /// The only rows (sorted) where the matrices given may differ from the
+    /// factorised one (see [`UpdatedCholesky::with_candidate_rows`]).
+    candidates: Option<Vec<usize>>,
 }
 
 impl UpdatedCholesky {
@@ -89,7 +92,20 @@ impl UpdatedCholesky {
             max_rank,
             tolerance: 1e-10,
             stats: UpdateStats::default(),
+            candidates: None,
         })
+    }
+
+    /// Promises that the matrices given to the solves differ from one
+    /// another only in the rows `rows` (a contact solve's tangent changes
+    /// in the interface nodes' rows alone): the search for changed rows
+    /// then looks at those rows only instead of every stored entry. Debug
+    /// builds check the promise at every solve.
+    pub fn with_candidate_rows(mut self, mut rows: Vec<usize>) -> Self {
+        rows.sort_unstable();
+        rows.dedup();
+        self.candidates = Some(rows);
+        self
     }
 
     /// Stored entries of the Cholesky factor.
@@ -158,6 +174,23 @@ impl UpdatedCholesky {
     /// Rows whose values differ from the factorised matrix (None: nothing
     /// factorised yet, or a change that is not symmetric in its dofs).
     fn changed_dofs(&self, matrix: &CsrMatrix) -> Option<Vec<usize>> {
+        let found = match &self.candidates {
+            Some(c) => self.changed_among(matrix, c.iter().copied()),
+            None => self.changed_among(matrix, 0..matrix.n()),
+        };
+        debug_assert!(
+            self.candidates.is_none() || found == self.changed_among(matrix, 0..matrix.n()),
+            "a matrix changed outside the candidate rows of UpdatedCholesky"
+        );
+        found
+    }
+
+    /// [`UpdatedCholesky::changed_dofs`] looking at `candidates` (increasing) only.
+    fn changed_among(
+        &self,
+        matrix: &CsrMatrix,
+        candidates: impl Iterator<Item = usize>,
+    ) -> Option<Vec<usize>> {
         let base = self.base.as_ref()?;
         let p = matrix.pattern();
         let (ptr, idx) = (p.indptr(), p.indices());
@@ -165,7 +198,7 @@ impl UpdatedCholesky {
         let mut rows = Vec::new();
         // a branch-free bitwise pass per row (it vectorises); only a row
         // whose bits differ is compared as values (±0)
-        for i in 0..p.n() {
+        for i in candidates {
             let (a, b) = (ptr[i], ptr[i + 1]);
             let bits = v[a..b]
                 .iter()
@@ -339,6 +372,48 @@ mod tests {
         let mut x = b.to_vec();
         c.solve(&mut x).unwrap();
         x
+    }
+
+    #[test]
+    fn candidate_rows_give_the_same_solves() {
+        let n = 120;
+        let a = tridiagonal(n);
+        let b: Vec<f64> = (0..n).map(|i| ((i * 13 % 7) as f64) - 3.0).collect();
+        let mut plain = UpdatedCholesky::analyse(a.pattern().clone(), 8).unwrap();
+        let mut hinted = UpdatedCholesky::analyse(a.pattern().clone(), 8)
+            .unwrap()
+            .with_candidate_rows(vec![61, 40, 41, 60]);
+        let mut a2 = a.clone();
+        for (i, j, d) in [(40, 40, 1e6), (41, 41, 1e6), (40, 41, -1e6), (41, 40, -1e6)] {
+            let v = a2.get(i, j);
+            set(&mut a2, i, j, v + d);
+        }
+        set(&mut a2, 60, 60, 2.2);
+        for m in [&a, &a2, &a2, &a] {
+            let (mut x, mut y) = (b.clone(), b.clone());
+            let kind = plain.solve(m, &mut x).unwrap();
+            assert_eq!(hinted.solve(m, &mut y).unwrap(), kind);
+            assert_eq!(x, y);
+        }
+        assert_eq!(plain.stats(), hinted.stats());
+        assert_eq!(hinted.stats().corrected, 2);
+    }
+
+    /// A change outside the promised rows is caught in debug builds (the
+    /// tests), where every solve checks the promise.
+    #[cfg(debug_assertions)]
+    #[test]
+    #[should_panic(expected = "outside the candidate rows")]
+    fn a_change_outside_the_candidate_rows_is_caught() {
+        let a = tridiagonal(30);
+        let mut s = UpdatedCholesky::analyse(a.pattern().clone(), 8)
+            .unwrap()
+            .with_candidate_rows(vec![3, 4]);
+        let mut x = vec![1.0; 30];
+        s.solve(&a, &mut x).unwrap();
+        let mut a2 = a.clone();
+        set(&mut a2, 10, 10, 3.0);
+        let _ = s.solve(&a2, &mut x);
     }
 
     #[test]

@@ -540,9 +540,37 @@ impl StaticSolver<'_> {
         with_matrix: bool,
     ) -> Result<(Option<CsrMatrix>, Vec<f64>), ElasticError> {
         let mut f_int = ku.to_vec();
-        let mut kt = with_matrix.then(|| self.k_bulk.clone());
+        let mut kt = with_matrix.then(|| self.bulk_copy());
         self.add_interfaces(u, committed, kt.as_mut(), &mut f_int)?;
         Ok((kt, f_int))
+    }
+
+    /// A copy of K_bulk, in the storage of a tangent given back by
+    /// [`StaticSolver::recycle`] when there is one: a fresh allocation of
+    /// the tangent at every Newton iteration cost about 5 % of a two-way
+    /// vessel run (the page faults of a new multi-megabyte block and the
+    /// copy). The copy itself is whole, so nothing of the old tangent
+    /// survives.
+    pub(super) fn bulk_copy(&self) -> CsrMatrix {
+        let spare = self.spare_tangents.lock().ok().and_then(|mut v| v.pop());
+        match spare {
+            Some(mut k) => {
+                k.values_mut().copy_from_slice(self.k_bulk.values());
+                k
+            }
+            None => self.k_bulk.clone(),
+        }
+    }
+
+    /// Gives a tangent's storage back for [`StaticSolver::bulk_copy`] (at
+    /// most two are kept; one of another pattern is dropped).
+    pub(super) fn recycle(&self, k: CsrMatrix) {
+        if std::sync::Arc::ptr_eq(k.pattern(), self.k_bulk.pattern())
+            && let Ok(mut v) = self.spare_tangents.lock()
+            && v.len() < 2
+        {
+            v.push(k);
+        }
     }
 
     /// Adds the interface forces at `u` (and their tangent, if asked) to

@@ -98,6 +98,8 @@ pub struct StaticSolver<'a> {
     /// touches (there the tangent is K_bulk): with the interface rows' sums
     /// of the tangent, a bound of ‖ |K_t| ‖ (see [`newton::floor_or_bound`]).
     rest_row_abs: f64,
+    /// Tangents' storage for reuse (see [`StaticSolver::bulk_copy`]).
+    spare_tangents: std::sync::Mutex<Vec<CsrMatrix>>,
     lu: Option<LuSolver>,
     /// The last failed increment stopped in its outer loop (frozen friction
     /// limits or multipliers still changing), not in a Newton pass.
@@ -276,6 +278,7 @@ impl<'a> StaticSolver<'a> {
             condensed_failed: false,
             condensed_choice: None,
             rest_row_abs,
+            spare_tangents: std::sync::Mutex::new(Vec::new()),
             interface_dofs,
             lu: None,
             outer_stalled: false,
@@ -476,10 +479,13 @@ impl<'a> StaticSolver<'a> {
         if symmetric {
             let c = match &mut self.cholesky {
                 Some(c) => c,
-                None => self.cholesky.insert(UpdatedCholesky::analyse(
-                    kt.pattern().clone(),
-                    MAX_UPDATE_RANK,
-                )?),
+                None => self.cholesky.insert(
+                    // the tangents differ in the interface nodes' rows
+                    // only (the bulk, its supports and the rotations of
+                    // skew supports are the same at every iteration)
+                    UpdatedCholesky::analyse(kt.pattern().clone(), MAX_UPDATE_RANK)?
+                        .with_candidate_rows(self.interface_dofs.clone()),
+                ),
             };
             // a tangent that differs from the factorised one only where a
             // few interface points changed branch is solved by a low-rank

@@ -75,7 +75,11 @@ impl StaticSolver<'_> {
             if let Some(damped) = t.damped_points() {
                 let flagged = self.with_secant_slip(committed, damped);
                 let (k2, _) = self.tangent_and_force_from(&u, &ku, &flagged, true)?;
-                kt = k2.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+                let exact = std::mem::replace(
+                    &mut kt,
+                    k2.ok_or_else(|| FemError::Solver("tangent missing".into()))?,
+                );
+                self.recycle(exact);
             }
             // Tangent in the rotated frame, homogeneous constraints on the correction.
             self.rotations.rotate_matrix(&mut kt);
@@ -176,6 +180,7 @@ impl StaticSolver<'_> {
             } else {
                 self.residual_line_search(f_ext, committed, &u, &du, &r)?
             };
+            self.recycle(kt);
             for (a, b) in u.iter_mut().zip(&du) {
                 *a += step * b;
             }
@@ -351,7 +356,9 @@ impl StaticSolver<'_> {
         self.rotations.rotate_matrix(&mut kt);
         let mut du = self.residual(f_ext, &f_int);
         self.prepared.apply_scaled(&mut kt, &mut du, 0.0);
-        if self.solve(&kt, &mut du, true, accept).is_err() {
+        let solved = self.solve(&kt, &mut du, true, accept);
+        self.recycle(kt);
+        if solved.is_err() {
             // e.g. a body left without support: start the factor afresh
             // (the symbolic analysis stays)
             if let Some(c) = self.cholesky.as_mut() {
