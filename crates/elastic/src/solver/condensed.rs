@@ -374,7 +374,7 @@ impl StaticSolver<'_> {
             // a corrected linear solve need not beat the convergence test
             let accept = LINEAR_SHARE * tolerance * t.reference;
             let status_t = self.statuses(&uf, committed);
-            let obs = match t.observe(status_t, rel, floor, tolerance, &opts) {
+            let obs = match t.observe(status_t, rel, (floor, false), tolerance, &opts) {
                 Ok(o) => o,
                 Err(e) => return Err(self.floating_or(e, &uf, committed)),
             };

@@ -38,11 +38,10 @@ impl StaticSolver<'_> {
             // 1e5 E/h) that floor lies above the tolerance, and a linear
             // problem would otherwise iterate forever at it.
             let (floor, bound) = self.floor_or_bound(&kt, &u, f_ext, t.reference);
-            t.floor_is_bound = bound;
             let tolerance = opts.residual_tolerance.max(floor);
             // a corrected linear solve need not beat the convergence test
             let accept = LINEAR_SHARE * tolerance * t.reference;
-            let obs = t.observe(status_t, rel, floor, tolerance, &opts)?;
+            let obs = t.observe(status_t, rel, (floor, bound), tolerance, &opts)?;
             if obs.done {
                 // open points carry no stiffness: a body that every one of
                 // its interface points has let go of is held by nothing,

@@ -52,9 +52,6 @@ pub(super) struct PassTracker {
     forcing: f64,
     loose: f64,
     pub inexact: bool,
-    /// The floor given to the next [`PassTracker::observe`] is a bound
-    /// (see `IterationRecord::floor_is_bound`).
-    pub floor_is_bound: bool,
 }
 
 impl PassTracker {
@@ -76,7 +73,6 @@ impl PassTracker {
             forcing: 0.0,
             loose: 0.0,
             inexact: false,
-            floor_is_bound: false,
         }
     }
 
@@ -88,13 +84,14 @@ impl PassTracker {
     }
 
     /// Records an iterate: its statuses (with the traction each point
-    /// carries), relative residual, round-off floor and tolerance. Fails on
-    /// status ping-pong.
+    /// carries), relative residual, round-off floor (or a bound of it below
+    /// the tolerance: `floor_is_bound`) and tolerance. Fails on status
+    /// ping-pong.
     pub fn observe(
         &mut self,
         status_t: Vec<(PointStatus, f64)>,
         rel: f64,
-        floor: f64,
+        (floor, floor_is_bound): (f64, bool),
         tolerance: f64,
         opts: &SolverOptions,
     ) -> Result<Observation, ElasticError> {
@@ -169,7 +166,7 @@ impl PassTracker {
             status: counts,
             changed,
             floor,
-            floor_is_bound: self.floor_is_bound,
+            floor_is_bound,
             predicted: 0,
             rejected: false,
             inexact: loose,
@@ -363,7 +360,7 @@ mod tests {
     fn iterate(t: &mut PassTracker, status: &[PointStatus]) {
         let opts = SolverOptions::default();
         let st = status.iter().map(|&s| (s, 1.0)).collect();
-        t.observe(st, 1.0, 0.0, 1e-10, &opts).unwrap();
+        t.observe(st, 1.0, (0.0, false), 1e-10, &opts).unwrap();
         t.stepped(1.0, 1.0).unwrap();
     }
 
