@@ -15,8 +15,10 @@
 //! change of the interface dofs since the start of the pass. The pass then
 //! iterates on δ alone — statuses, convergence test, front prediction,
 //! damping and the exact energy line search as in the full pass
-//! ([`PassTracker`]) — and the interior is recovered once, at the end, by
-//! one more solve. The converged state is the same as the full pass's: the
+//! ([`PassTracker`]). The next pass of the increment goes on from where
+//! this one ended (δ counted from the same start), and the interior is
+//! recovered once, when the increment ends, by one more solve
+//! ([`Pending`]). The converged state is the same as the full pass's: the
 //! condensed equations are the full equations with the interior
 //! eliminated exactly.
 //!
@@ -53,6 +55,38 @@ pub(super) struct Condensed {
     /// Full-pattern matrix the interface tangents are assembled into; only
     /// its Γ × Γ entries are read (and zeroed before each assembly).
     scratch: CsrMatrix,
+}
+
+/// The state at the end of a condensed pass, kept so that the next pass of
+/// the increment goes on from it and the interior is recovered once per
+/// increment instead of once per pass (the recovery is a sparse solve with
+/// A_II: on `t1e5`, about half of the contact solve when made after every
+/// pass). Only Γ's entries of the vector a pass hands back are current;
+/// [`StaticSolver::settle_interior`] makes the rest.
+#[derive(Debug)]
+pub(super) struct Pending {
+    /// The vector the pass handed back: Γ entries current, the interior
+    /// entries those of `start`.
+    uf: Vec<f64>,
+    /// The increment's external forces.
+    f_ext: Vec<f64>,
+    /// Where the chain of passes started, the interior in equilibrium.
+    chain: Chain,
+}
+
+/// A chain of condensed passes from `start` (its interior in equilibrium
+/// with its interface dofs): the interface dofs moved by `delta` since, the
+/// bulk residual on Γ at `start`, and the start's interior parts of the
+/// force scale and of the round-off floor.
+#[derive(Debug, Clone)]
+struct Chain {
+    start: Vec<f64>,
+    rb0: Vec<f64>,
+    delta: Vec<f64>,
+    s_delta: Vec<f64>,
+    floor_i2: f64,
+    f_int_i2: f64,
+    interior_norm2: f64,
 }
 
 /// How a condensed pass ended.
@@ -126,6 +160,7 @@ impl StaticSolver<'_> {
         pass: usize,
     ) -> Result<(Vec<f64>, Vec<IterationRecord>), ElasticError> {
         if self.condensed_failed || !self.condensable()? {
+            self.settle_interior(&mut u)?;
             return self.newton(f_ext, loads, committed, u, pass);
         }
         self.impose_prescribed(&mut u, loads);
@@ -157,14 +192,59 @@ impl StaticSolver<'_> {
             }
         }
         let Some(mut cx) = self.condensed.take() else {
+            self.settle_interior(&mut u)?;
             return self.newton(f_ext, loads, committed, u, pass);
         };
-        let outcome = self.condensed_pass(&mut cx, f_ext, committed, u.clone(), pass);
+        // the chain of the passes before, if `u` is where the last one ended
+        // (kept until this pass ends: a pass that fails or hands over to
+        // the full pass leaves `u` as it was)
+        let chain = self
+            .pending
+            .as_ref()
+            .filter(|p| same_bits(&p.uf, &u) && same_bits(&p.f_ext, f_ext))
+            .map(|p| p.chain.clone());
+        let outcome = self.condensed_pass(&mut cx, f_ext, committed, u.clone(), chain, pass);
         self.condensed = Some(cx);
         match outcome? {
             Outcome::Done(u, history) => Ok((u, history)),
-            Outcome::FullPass => self.newton(f_ext, loads, committed, u, pass),
+            Outcome::FullPass => {
+                self.settle_interior(&mut u)?;
+                self.newton(f_ext, loads, committed, u, pass)
+            }
         }
+    }
+
+    /// Recovers the interior of `u` when it is the vector the last condensed
+    /// pass handed back (see [`Pending`]): Δu_I = −A_II⁻¹ A_IΓ δ from the
+    /// start of the chain. Any other `u` is complete already.
+    pub(super) fn settle_interior(&mut self, u: &mut Vec<f64>) -> Result<(), ElasticError> {
+        let Some(p) = self.pending.take() else {
+            return Ok(());
+        };
+        if !same_bits(&p.uf, u) {
+            return Ok(());
+        }
+        let cx = self.condensed.as_mut().ok_or_else(|| {
+            FemError::Solver("condensed pass state without its condensation".into())
+        })?;
+        let Chain {
+            mut start, delta, ..
+        } = p.chain;
+        let mut d_i = cx.chol.mul_interior_gamma(&delta);
+        cx.chol.solve_interior(&mut d_i)?;
+        let mut dv = vec![0.0; start.len()];
+        for (&d, &x) in cx.chol.interior().iter().zip(&d_i) {
+            dv[d] = -x;
+        }
+        self.rotations.unrotate_vector(&mut dv);
+        for (a, &d) in cx.chol.gamma().iter().enumerate() {
+            dv[d] = delta[a];
+        }
+        for (a, b) in start.iter_mut().zip(&dv) {
+            *a += b;
+        }
+        *u = start;
+        Ok(())
     }
 
     /// Condenses the constrained, rotated bulk onto the interface dofs.
@@ -258,68 +338,41 @@ impl StaticSolver<'_> {
         cx: &mut Condensed,
         f_ext: &[f64],
         committed: &[PointStates],
-        mut u: Vec<f64>,
+        u: Vec<f64>,
+        chain: Option<Chain>,
         pass: usize,
     ) -> Result<Outcome, ElasticError> {
+        let chain = match chain {
+            Some(c) => c,
+            None => self.chain_start(cx, f_ext, committed, u)?,
+        };
+        let Chain {
+            start: u,
+            rb0,
+            mut delta,
+            mut s_delta,
+            floor_i2,
+            f_int_i2,
+            interior_norm2,
+        } = chain;
         let opts = self.options;
         let n = u.len();
-        // the interior in equilibrium with the interface dofs
-        let (_, f_int) = self.tangent_and_force(&u, committed, false)?;
-        let r = self.residual(f_ext, &f_int);
-        let mut d_i: Vec<f64> = cx.chol.interior().iter().map(|&d| r[d]).collect();
-        // (after a pass of the same increment the interior is in
-        // equilibrium already, to round-off: no solve)
-        let reference0 = norm(f_ext).max(norm(&f_int)).max(f64::MIN_POSITIVE);
-        if norm(&d_i) > LINEAR_SHARE * opts.residual_tolerance * reference0 {
-            cx.chol.solve_interior(&mut d_i)?;
-        } else {
-            d_i.fill(0.0);
-        }
-        let coupling = cx.chol.mul_gamma_interior(&d_i);
-        let mut dv = vec![0.0; n];
-        for (&d, &x) in cx.chol.interior().iter().zip(&d_i) {
-            dv[d] = x;
-        }
-        self.rotations.unrotate_vector(&mut dv);
-        for (a, b) in u.iter_mut().zip(&dv) {
-            *a += b;
-        }
-        // force scale and round-off floor of the pass, at its start
-        let mut f_int = f_int;
-        if d_i.iter().any(|&x| x != 0.0) {
-            let mut kdv = vec![0.0; n];
-            self.k_bulk.mul_vec(&dv, &mut kdv);
-            for (a, b) in f_int.iter_mut().zip(&kdv) {
-                *a += b;
-            }
-        }
         let gamma: Vec<usize> = cx.chol.gamma().to_vec();
         let m = gamma.len();
         let mut t = PassTracker::new(norm(f_ext), pass).with_forcing(self.pass_forcing);
-        // The force scale and the round-off floor as the full pass has
-        // them, ‖f_int‖ and ε ‖ |K_t| |u| + |f_ext| ‖: the rows of I at the
-        // start of the pass (their internal forces equal the external ones
-        // while the interior follows the interface), the rows of Γ at every
-        // iterate (|K_ΓI| |u_I| from the start). The rows of I and the
-        // columns of I in the rows of Γ are the bulk's alone.
         let mut in_gamma = vec![false; n];
         for &d in &gamma {
             in_gamma[d] = true;
         }
         let kb = &self.k_bulk;
         let (kp, ki, kv) = (kb.pattern().indptr(), kb.pattern().indices(), kb.values());
-        let row_abs = |i: usize, only_interior: bool| -> f64 {
+        let row_abs = |i: usize| -> f64 {
             (kp[i]..kp[i + 1])
-                .filter(|&q| !only_interior || !in_gamma[ki[q]])
+                .filter(|&q| !in_gamma[ki[q]])
                 .map(|q| (kv[q] * u[ki[q]]).abs())
                 .sum::<f64>()
         };
-        let (mut floor_i2, mut f_int_i2) = (0.0, 0.0);
-        for &i in cx.chol.interior() {
-            floor_i2 += (row_abs(i, false) + f_ext[i].abs()).powi(2);
-            f_int_i2 += f_int[i] * f_int[i];
-        }
-        let gi_abs: Vec<f64> = gamma.iter().map(|&d| row_abs(d, true)).collect();
+        let gi_abs: Vec<f64> = gamma.iter().map(|&d| row_abs(d)).collect();
         let (gg_ptr, gg_col, _) = cx.chol.gamma_entries();
         let (gg_ptr, gg_col) = (gg_ptr.to_vec(), gg_col.to_vec());
         let scale = |gg: &[f64], r_g: &[f64], uf: &[f64]| -> (f64, f64) {
@@ -334,22 +387,11 @@ impl StaticSolver<'_> {
             (ROUND_OFF_FACTOR * f64::EPSILON * floor2.sqrt(), f2.sqrt())
         };
         let mut fc = vec![0.0; n];
-        let (fc0, _) = self.gamma_force(cx, &u, committed, &mut fc, false)?;
-        // bulk residual on Γ at the start: r_Γ − A_ΓI d_I + f_c
-        let rb0: Vec<f64> = (0..m)
-            .map(|a| {
-                if cx.fixed[a] {
-                    0.0
-                } else {
-                    r[gamma[a]] - coupling[a] + fc0[a]
-                }
-            })
-            .collect();
-        let interior_norm2: f64 = cx.chol.interior().iter().map(|&d| u[d] * u[d]).sum();
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
-        let mut delta = vec![0.0; m];
-        let mut s_delta = vec![0.0; m];
         let mut uf = u.clone();
+        for (a, &d) in gamma.iter().enumerate() {
+            uf[d] = u[d] + delta[a];
+        }
         let residual = |s_delta: &[f64], fcg: &[f64], fixed: &[bool]| -> Vec<f64> {
             (0..m)
                 .map(|a| {
@@ -489,21 +531,102 @@ impl StaticSolver<'_> {
             );
             return Err(self.floating_or(e, &uf, committed));
         }
-        // the interior follows the interface: Δu_I = −A_II⁻¹ A_IΓ δ
-        let mut d_i = cx.chol.mul_interior_gamma(&delta);
-        cx.chol.solve_interior(&mut d_i)?;
+        // the interior follows the interface (Δu_I = −A_II⁻¹ A_IΓ δ): it is
+        // recovered when the increment ends (`settle_interior`); the next
+        // pass goes on from here
+        self.pending = Some(Pending {
+            uf: uf.clone(),
+            f_ext: f_ext.to_vec(),
+            chain: Chain {
+                start: u,
+                rb0,
+                delta,
+                s_delta,
+                floor_i2,
+                f_int_i2,
+                interior_norm2,
+            },
+        });
+        Ok(Outcome::Done(uf, t.history))
+    }
+
+    /// The start of a chain of condensed passes from `u`: the interior put
+    /// in equilibrium with the interface dofs (one solve with A_II, skipped
+    /// when its residual is already below what the linear solves may
+    /// leave), the bulk residual on Γ there, and the interior's parts of
+    /// the force scale and of the round-off floor. The force scale and the
+    /// floor are those of the full pass, ‖f_int‖ and
+    /// ε ‖ |K_t| |u| + |f_ext| ‖: the rows of I at the start of the chain
+    /// (their internal forces equal the external ones while the interior
+    /// follows the interface), the rows of Γ at every iterate (|K_ΓI| |u_I|
+    /// from the start). The rows of I and the columns of I in the rows of
+    /// Γ are the bulk's alone.
+    fn chain_start(
+        &mut self,
+        cx: &mut Condensed,
+        f_ext: &[f64],
+        committed: &[PointStates],
+        mut u: Vec<f64>,
+    ) -> Result<Chain, ElasticError> {
+        let opts = self.options;
+        let n = u.len();
+        let (_, f_int) = self.tangent_and_force(&u, committed, false)?;
+        let r = self.residual(f_ext, &f_int);
+        let mut d_i: Vec<f64> = cx.chol.interior().iter().map(|&d| r[d]).collect();
+        let reference0 = norm(f_ext).max(norm(&f_int)).max(f64::MIN_POSITIVE);
+        if norm(&d_i) > LINEAR_SHARE * opts.residual_tolerance * reference0 {
+            cx.chol.solve_interior(&mut d_i)?;
+        } else {
+            d_i.fill(0.0);
+        }
+        let coupling = cx.chol.mul_gamma_interior(&d_i);
         let mut dv = vec![0.0; n];
         for (&d, &x) in cx.chol.interior().iter().zip(&d_i) {
-            dv[d] = -x;
+            dv[d] = x;
         }
         self.rotations.unrotate_vector(&mut dv);
-        for (a, &d) in gamma.iter().enumerate() {
-            dv[d] = delta[a];
-        }
         for (a, b) in u.iter_mut().zip(&dv) {
             *a += b;
         }
-        Ok(Outcome::Done(u, t.history))
+        let mut f_int = f_int;
+        if d_i.iter().any(|&x| x != 0.0) {
+            let mut kdv = vec![0.0; n];
+            self.k_bulk.mul_vec(&dv, &mut kdv);
+            for (a, b) in f_int.iter_mut().zip(&kdv) {
+                *a += b;
+            }
+        }
+        let kb = &self.k_bulk;
+        let (kp, ki, kv) = (kb.pattern().indptr(), kb.pattern().indices(), kb.values());
+        let (mut floor_i2, mut f_int_i2) = (0.0, 0.0);
+        for &i in cx.chol.interior() {
+            let row: f64 = (kp[i]..kp[i + 1]).map(|q| (kv[q] * u[ki[q]]).abs()).sum();
+            floor_i2 += (row + f_ext[i].abs()).powi(2);
+            f_int_i2 += f_int[i] * f_int[i];
+        }
+        let gamma = cx.chol.gamma().to_vec();
+        let mut fc = vec![0.0; n];
+        let (fc0, _) = self.gamma_force(cx, &u, committed, &mut fc, false)?;
+        // bulk residual on Γ at the start: r_Γ − A_ΓI d_I + f_c
+        let rb0: Vec<f64> = (0..gamma.len())
+            .map(|a| {
+                if cx.fixed[a] {
+                    0.0
+                } else {
+                    r[gamma[a]] - coupling[a] + fc0[a]
+                }
+            })
+            .collect();
+        let interior_norm2: f64 = cx.chol.interior().iter().map(|&d| u[d] * u[d]).sum();
+        Ok(Chain {
+            start: u,
+            rb0,
+            delta: vec![0.0; gamma.len()],
+            s_delta: vec![0.0; gamma.len()],
+            floor_i2,
+            f_int_i2,
+            interior_norm2,
+        })
     }
 
     /// [`StaticSolver::check_held`] on the full tangent at `uf` (a full
@@ -596,4 +719,10 @@ impl Ray<'_> {
         }
         v
     }
+}
+
+/// The two vectors hold the same bits (a vector a pass handed back, not one
+/// that merely compares equal).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }

@@ -212,6 +212,8 @@ impl StaticSolver<'_> {
         let frozen_friction =
             self.options.friction_bound == FrictionBound::Frozen && self.has_friction();
         let mut u = self.u.clone();
+        // (a condensed pass of an earlier attempt is not continued)
+        self.pending = None;
         // Inexact passes while friction-limit updates follow (see
         // `SolverOptions::pass_forcing`); the next pass is exact once an
         // update after an inexact one changed almost nothing. Without
@@ -359,6 +361,8 @@ impl StaticSolver<'_> {
             }
             augmentations += 1;
         };
+        // the interior of the condensed passes' interface dofs
+        self.settle_interior(&mut u)?;
         let states = self.trial_states(&u, &start);
         Ok((
             u,

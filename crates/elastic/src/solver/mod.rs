@@ -87,6 +87,9 @@ pub struct StaticSolver<'a> {
     cholesky: Option<UpdatedCholesky>,
     /// The bulk condensed onto the interface dofs (see `condensed`).
     condensed: Option<condensed::Condensed>,
+    /// The last condensed pass's state, its interior not recovered yet (see
+    /// `StaticSolver::settle_interior`).
+    pending: Option<condensed::Pending>,
     /// Condensation was tried and the interior was not positive definite.
     condensed_failed: bool,
     /// Whether the passes run condensed (decided once, on the first pass).
@@ -275,6 +278,7 @@ impl<'a> StaticSolver<'a> {
             held_statuses: None,
             cholesky: None,
             condensed: None,
+            pending: None,
             condensed_failed: false,
             condensed_choice: None,
             rest_row_abs,
