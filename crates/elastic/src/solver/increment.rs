@@ -210,7 +210,7 @@ impl StaticSolver<'_> {
         let mut last_start: Option<States> = None;
         let mut outer_cuts = 0;
         let frozen_friction =
-            self.options.friction_bound == FrictionBound::Frozen && self.has_friction();
+            self.options.friction_bound == FrictionBound::Frozen && self.has_slip_limits();
         let mut u = self.u.clone();
         // (a condensed pass of an earlier attempt is not continued)
         self.pending = None;

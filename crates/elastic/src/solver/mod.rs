@@ -395,6 +395,18 @@ impl<'a> StaticSolver<'a> {
         self.laws.iter().any(|l| matches!(l, Joint::Frictional(_)))
     }
 
+    /// True if an interface has a Mohr–Coulomb joint whose slip limit can
+    /// be other than zero (a friction coefficient or a cohesion): only such
+    /// joints need the outer updates of frozen friction limits. A
+    /// frictionless one (μ = 0, c = 0) has none, so its passes are exact,
+    /// as a frictionless joint's should be (see `SolverOptions::pass_forcing`).
+    fn has_slip_limits(&self) -> bool {
+        self.laws.iter().any(|l| match l {
+            Joint::Frictional(j) => j.tan_phi() > 0.0 || j.cohesion() > 0.0,
+            _ => false,
+        })
+    }
+
     fn check_modes(&mut self, kt: &CsrMatrix) -> Result<(), ElasticError> {
         match check_rigid_modes(kt, &self.modes) {
             Ok(()) => {
