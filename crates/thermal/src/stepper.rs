@@ -13,7 +13,8 @@
 //! for the increment keeps the solve's round-off proportional to |ΔT|, not
 //! to |T|, which is what lets the heat balance close to round-off.
 //!
-//! Factorisations live in a small pool (least recently used evicted; an
+//! Factorisations live in a small pool (least recently used evicted; all
+//! slots share one symbolic analysis, and an
 //! evicted solver keeps its symbolic analysis and is refactorised
 //! numerically for the new Δt).
 
@@ -55,7 +56,7 @@ pub struct StepperStats {
     pub steps: usize,
     /// Numeric factorisations of `C/Δt + θK`.
     pub factorisations: usize,
-    /// Symbolic analyses (one per pool slot).
+    /// Symbolic analyses (at most one: the pool's slots share it).
     pub analyses: usize,
 }
 
@@ -221,8 +222,12 @@ impl<'s, 'm> ThetaStepper<'s, 'm> {
             let solver = match &self.symbolic {
                 Some(a) => a.share_symbolic(),
                 None => {
+                    // analysed once: later slots (and slots refilled after
+                    // a schedule dropped its factorisations) share it
                     self.stats.analyses += 1;
-                    CholeskySolver::analyse(Arc::clone(sys.assembler.pattern()))?
+                    let solver = CholeskySolver::analyse(Arc::clone(sys.assembler.pattern()))?;
+                    self.symbolic = Some(solver.share_symbolic());
+                    solver
                 }
             };
             self.pool.push(Factorised {

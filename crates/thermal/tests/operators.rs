@@ -61,7 +61,7 @@ fn one_factorisation_per_distinct_step_and_theta() {
         st.step(if k % 3 == 0 { 0.5 } else { 0.25 }, 1.0).unwrap();
     }
     assert_eq!(st.stats().factorisations, 2);
-    assert_eq!(st.stats().analyses, 2);
+    assert_eq!(st.stats().analyses, 1, "the second slot shares the first's");
     // A pool of one refactorises on every change but never re-analyses.
     let mut st = system
         .stepper(system.initial_temperature().unwrap().to_vec(), 0.0)
@@ -89,6 +89,7 @@ fn one_factorisation_per_distinct_step_and_theta() {
         3,
         "the dropped one factorised anew"
     );
+    assert_eq!(st.stats().analyses, 1, "but not analysed anew");
 }
 
 /// A stepper sharing the symbolic analysis of a solver made on another
@@ -115,7 +116,7 @@ fn a_shared_symbolic_analysis_gives_the_same_steps() {
     }
     assert_eq!(own.temperature(), shared.temperature());
     assert_eq!(shared.stats().analyses, 0);
-    assert_eq!(own.stats().analyses, 2);
+    assert_eq!(own.stats().analyses, 1);
     assert_eq!(shared.stats().factorisations, 2);
     let other = rectangle(0.0, 0.0, 0.1, 0.1, 5, 5).unwrap();
     let other = model(&other).assemble().unwrap();
@@ -296,4 +297,66 @@ fn transient_with_prescribed_temperature_tends_to_the_steady_state() {
         .fold(0.0, f64::max);
     println!("distance to the steady state at t = 200: {err:.2e}");
     assert!(err < 1e-6 * 100.0);
+}
+
+/// Goal: on the vessel's large quadratic meshes the solver's automatic
+/// order keeps nested dissection, whose factor is far smaller than AMD's
+/// (graded level 2 at order 2, 92 202 nodes: 3.40 against 4.50 million
+/// entries, measured 2026-11-29), and the steps solve the same.
+#[test]
+fn a_large_vessel_mesh_takes_the_smaller_nested_dissection_factor() {
+    use tecon_fem::{CholeskySolver, FillOrdering};
+    use tecon_mesh::{VesselGeometry, VesselMeshSpec, vessel_mesh};
+    let mesh = vessel_mesh(
+        &VesselGeometry::default(),
+        &VesselMeshSpec::graded(2).unwrap(),
+    )
+    .unwrap();
+    let mut m = ThermalModel::new(&mesh);
+    m.set_material_everywhere(Material::vessel_steel())
+        .unwrap()
+        .add_edge_bc("outer", EdgeBc::convection(10.25, 21.0))
+        .unwrap()
+        .set_interface_conductance("core_layer", 850.0)
+        .unwrap()
+        .set_initial_default(21.0)
+        .unwrap()
+        .set_initial_region("weld", 1132.0)
+        .unwrap();
+    let system = m.assemble().unwrap();
+    let pattern = std::sync::Arc::clone(system.assembler().pattern());
+    assert!(pattern.n() > 90_000);
+    let entries = |o| {
+        CholeskySolver::analyse_ordered(pattern.clone(), o)
+            .unwrap()
+            .factor_nnz()
+    };
+    let (amd, nd) = (
+        entries(FillOrdering::Amd),
+        entries(FillOrdering::NestedDissection),
+    );
+    let auto = CholeskySolver::analyse(pattern.clone())
+        .unwrap()
+        .factor_nnz();
+    assert_eq!(auto, nd, "AMD {amd}, nested dissection {nd}");
+    assert!(
+        (nd as f64) < 0.85 * amd as f64,
+        "AMD {amd}, nested dissection {nd}"
+    );
+    // two steps with an AMD-ordered factor shared in, against the default
+    let t0 = system.initial_temperature().unwrap().to_vec();
+    let mut own = system.stepper(t0.clone(), 0.0).unwrap();
+    let mut amd_steps = system.stepper(t0, 0.0).unwrap();
+    amd_steps.share_symbolic(&CholeskySolver::analyse_ordered(pattern, FillOrdering::Amd).unwrap());
+    for _ in 0..2 {
+        own.step(0.02, 1.0).unwrap();
+        amd_steps.step(0.02, 1.0).unwrap();
+    }
+    let worst = own
+        .temperature()
+        .iter()
+        .zip(amd_steps.temperature())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "temperatures differ by {worst:e} K");
 }
