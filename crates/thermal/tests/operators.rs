@@ -301,7 +301,7 @@ fn transient_with_prescribed_temperature_tends_to_the_steady_state() {
 
 /// Goal: on the vessel's large quadratic meshes the solver's automatic
 /// order keeps nested dissection, whose factor is far smaller than AMD's
-/// (graded level 2 at order 2, 92 202 nodes: 3.40 against 4.50 million
+/// (graded level 2 at order 2, 92 202 nodes: 3.34 against 4.50 million
 /// entries, measured 2026-11-29), and the steps solve the same.
 #[test]
 fn a_large_vessel_mesh_takes_the_smaller_nested_dissection_factor() {
