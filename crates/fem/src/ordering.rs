@@ -12,10 +12,10 @@
 //!   degree (faer's AMD on the graph they induce); the components of a
 //!   disconnected part are ordered one after the other.
 //!
-//! On large 2D meshes this factor holds fewer entries than AMD's (the
-//! thermal system of 506 198 nodes of 6-node triangles: 35.3 million
-//! against 48.8 million); on small or thin ones AMD can do better, so
-//! [`crate::CholeskySolver`] keeps whichever of the two is smaller.
+//! On the large vessel meshes this factor holds fewer entries than AMD's
+//! (the thermal system of 506 198 nodes of 6-node triangles: 34.2 million
+//! against 48.8 million); on small meshes or thin strips AMD does better,
+//! so [`crate::CholeskySolver`] keeps whichever of the two is smaller.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SymbolicSparseColMatRef;

@@ -37,12 +37,14 @@ const PARALLEL_MIN_UNKNOWNS: usize = 500_000;
 /// dissection ([`crate::ordering`]), and the order whose factor holds fewer
 /// entries is kept. Measured (factor entries, AMD against nested
 /// dissection): the order-2 `t2.5e5` vessel's thermal system (506 198
-/// unknowns) 48.8 against 35.3 million, its numeric factorisations 5.0 s
-/// against 3.0 s; the graded g2 thermal system (92 202) 4.50 against 3.40
-/// million; `t1e5`'s (50 600) 2.77 against 2.65 million; the condensed
-/// interior of `t1e5`'s elastic system (99 360) 7.36 against 8.18 million
-/// (AMD kept). Smaller systems keep AMD alone (and their answers bit for
-/// bit).
+/// unknowns) 48.8 against 34.2 million, its elastic system (1 012 396)
+/// 187 against 128 million, the condensed interior of it 151 against 112
+/// million; the graded g2 thermal system (92 202) 4.50 against 3.34
+/// million; `t1e5`'s thermal system (50 600) 2.77 against 2.53 million,
+/// the condensed interior of its elastic system (99 360) 7.36 against 7.52
+/// million (AMD kept). Below about 10⁵ unknowns AMD mostly wins (g1's
+/// thermal system, 23 766 unknowns: 0.62 against 0.71 million); systems
+/// under the threshold keep AMD alone, and their answers bit for bit.
 pub const NESTED_DISSECTION_MIN_UNKNOWNS: usize = 50_000;
 
 /// faer parallelism for a system of `n` unknowns.
