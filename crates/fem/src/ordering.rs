@@ -168,6 +168,8 @@ pub fn nested_dissection(pattern: &SparsityPattern) -> Result<Vec<usize>, FemErr
         // pseudo-peripheral root: from the last level, the node of least
         // degree, while the number of levels grows
         std::mem::swap(&mut bfs, &mut best);
+        // whether `level` holds a rejected search's levels instead of best's
+        let mut stale = false;
         for _ in 0..ROOT_SEARCHES {
             let last = (depth - 1) as u32;
             let Some(far) = best
@@ -184,13 +186,15 @@ pub fn nested_dissection(pattern: &SparsityPattern) -> Result<Vec<usize>, FemErr
                 depth = d;
                 std::mem::swap(&mut bfs, &mut best);
             } else {
+                stale = true;
                 break;
             }
         }
-        // `level` may now hold a later search's levels: search again from
-        // the kept root (the first node of `best`)
-        let root = best[0];
-        marks.levels(&g, tag, root, &mut best);
+        if stale {
+            // the levels of the kept root (the first node of `best`)
+            let root = best[0];
+            marks.levels(&g, tag, root, &mut best);
+        }
         if depth < 3 {
             amd_part(&g, &nodes, &mut order)?;
             continue;
@@ -213,11 +217,11 @@ pub fn nested_dissection(pattern: &SparsityPattern) -> Result<Vec<usize>, FemErr
         // half is reached
         let total = nodes.len() as f64;
         let (mut before, mut mid, mut smallest) = (0usize, None, usize::MAX);
-        let mut half = depth - 2;
+        let mut half = None;
         for l in 0..depth {
             let f = before as f64 / total;
-            if before + count[l] > nodes.len() / 2 && half == depth - 2 {
-                half = l;
+            if half.is_none() && before + count[l] > nodes.len() / 2 {
+                half = Some(l);
             }
             if (1..depth - 1).contains(&l)
                 && (BALANCE..=1.0 - BALANCE).contains(&f)
@@ -227,7 +231,7 @@ pub fn nested_dissection(pattern: &SparsityPattern) -> Result<Vec<usize>, FemErr
             }
             before += count[l];
         }
-        let mid = mid.unwrap_or(half.clamp(1, depth - 2)) as u32;
+        let mid = mid.unwrap_or_else(|| half.unwrap_or(depth - 2).clamp(1, depth - 2)) as u32;
         let (mut first, mut second, mut separator) = (Vec::new(), Vec::new(), Vec::new());
         for &v in &best {
             let l = marks.level[v];

@@ -775,7 +775,7 @@ mod tests {
     /// Goal: a system above the nested-dissection threshold keeps the
     /// smaller of the two factors, and both orders solve to round-off.
     #[test]
-    fn a_large_grid_keeps_the_smaller_factor_and_solves() {
+    fn a_large_strip_keeps_the_smaller_factor_and_solves() {
         // the 6-node triangles of a square: 2 × 70 × 70 elements on a
         // 141 × 141 lattice (19 881 nodes), 3 unknowns per node (59 643),
         // the element cliques a Laplacian-like matrix plus a small mass
