@@ -111,9 +111,10 @@ impl CholeskySolver {
                 }
             }
             SymbolicCholeskyRaw::Supernodal(sym) => {
+                let mut tmp = Vec::new();
                 for s in 0..sym.n_supernodes() {
                     let (b, w, below, rows, l) = supernode(sym, v, s);
-                    forward_supernode(b, w, below, rows, l, x);
+                    forward_supernode(b, w, below, rows, l, x, &mut tmp);
                 }
             }
         }
@@ -139,11 +140,15 @@ impl CholeskySolver {
                 }
             }
             SymbolicCholeskyRaw::Supernodal(sym) => {
+                let mut tmp = Vec::new();
                 for s in (0..sym.n_supernodes()).rev() {
                     let (b, w, below, rows, l) = supernode(sym, v, s);
+                    // x's rows below, gathered once for the block's columns
+                    tmp.clear();
+                    tmp.extend(below.iter().map(|&r| x[r]));
                     for j in 0..w {
                         let col = &l[j * rows + w..(j + 1) * rows];
-                        let acc: f64 = below.iter().zip(col).map(|(&r, &c)| c * x[r]).sum();
+                        let acc: f64 = tmp.iter().zip(col).map(|(&t, &c)| c * t).sum();
                         x[b + j] -= acc;
                     }
                     let lm = MatRef::from_column_major_slice(l, rows, w);
@@ -205,9 +210,10 @@ impl CholeskySolver {
             SymbolicCholeskyRaw::Supernodal(sym) => {
                 let of = self.supernode_of();
                 let mut s = Some(of[start] as usize);
+                let mut tmp = Vec::new();
                 while let Some(k) = s {
                     let (b, w, below, rows, l) = supernode(sym, v, k);
-                    forward_supernode(b, w, below, rows, l, work);
+                    forward_supernode(b, w, below, rows, l, work, &mut tmp);
                     indices.extend(b..b + w);
                     // the parent supernode holds the first row below
                     s = below.first().map(|&r| of[r] as usize);
@@ -245,21 +251,36 @@ fn supernode<'a>(
 }
 
 /// The forward step of one supernode on a dense x.
-fn forward_supernode(b: usize, w: usize, below: &[usize], rows: usize, l: &[f64], x: &mut [f64]) {
+fn forward_supernode(
+    b: usize,
+    w: usize,
+    below: &[usize],
+    rows: usize,
+    l: &[f64],
+    x: &mut [f64],
+    tmp: &mut Vec<f64>,
+) {
     let lm = MatRef::from_column_major_slice(l, rows, w);
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(
         lm.submatrix(0, 0, w, w),
         MatMut::from_column_major_slice_mut(&mut x[b..b + w], w, 1),
         Par::Seq,
     );
+    // the rows below updated in a dense copy (one gather and one scatter
+    // instead of one per column; the same operations in the same order)
+    tmp.clear();
+    tmp.extend(below.iter().map(|&r| x[r]));
     for j in 0..w {
         let xj = x[b + j];
         if xj != 0.0 {
             let col = &l[j * rows + w..(j + 1) * rows];
-            for (&r, &c) in below.iter().zip(col) {
-                x[r] -= c * xj;
+            for (t, &c) in tmp.iter_mut().zip(col) {
+                *t -= c * xj;
             }
         }
+    }
+    for (&r, &t) in below.iter().zip(tmp.iter()) {
+        x[r] = t;
     }
 }
 
