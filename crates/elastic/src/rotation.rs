@@ -59,6 +59,19 @@ impl Rotations {
         self.set.contains(&node)
     }
 
+    /// Calls `f` with every range of value slots that
+    /// [`Rotations::rotate_matrix`] changes: the rotated nodes' rows and
+    /// their columns' entries in other rows.
+    pub(crate) fn for_each_touched(&self, mut f: impl FnMut(std::ops::Range<usize>)) {
+        for r in &self.nodes {
+            f(r.row0.clone());
+            f(r.row1_start..r.row1_start + r.row0.len());
+            for &s0 in &r.col {
+                f(s0..s0 + 2);
+            }
+        }
+    }
+
     /// K ← Tᵀ K T.
     pub(crate) fn rotate_matrix(&self, k: &mut CsrMatrix) {
         let v = k.values_mut();

@@ -140,6 +140,18 @@ impl PreparedDirichlet {
         }
     }
 
+    /// Calls `f` with every range of value slots that
+    /// [`PreparedDirichlet::apply_scaled`] may change: the constrained
+    /// rows, and the constrained columns' entries in other rows.
+    pub fn for_each_touched(&self, mut f: impl FnMut(std::ops::Range<usize>)) {
+        for r in &self.rows {
+            f(r.row.clone());
+            for &(_, slot) in &r.column {
+                f(slot..slot + 1);
+            }
+        }
+    }
+
     /// Sets the constrained entries of `x` to their prescribed values × `s`.
     pub fn impose(&self, x: &mut [f64], s: f64) {
         for r in &self.rows {

@@ -549,10 +549,10 @@ impl StaticSolver<'_> {
     /// [`StaticSolver::recycle`] when there is one: a fresh allocation of
     /// the tangent at every Newton iteration cost about 5 % of a two-way
     /// vessel run (the page faults of a new multi-megabyte block and the
-    /// copy). A tangent differs from K_bulk only in the interface nodes'
-    /// rows (the interface elements add there alone; the bulk, its
-    /// supports and the rotations of skew supports never change), so only
-    /// those rows are copied back: the whole copy was about 5 % of a
+    /// copy). A used tangent differs from K_bulk only where the interface
+    /// elements added (the interface nodes' rows), where the rotations of
+    /// skew supports turned it and where the constraints were applied, so
+    /// only those slots are copied back: the whole copy was about 5 % of a
     /// two-way vessel run. Debug builds check that nothing else differs.
     pub(super) fn bulk_copy(&self) -> CsrMatrix {
         let spare = self.spare_tangents.lock().ok().and_then(|mut v| v.pop());
@@ -560,10 +560,14 @@ impl StaticSolver<'_> {
             Some(mut k) => {
                 let ptr = self.k_bulk.pattern().indptr();
                 let (from, to) = (self.k_bulk.values(), k.values_mut());
+                let mut back = |r: std::ops::Range<usize>| {
+                    to[r.clone()].copy_from_slice(&from[r]);
+                };
                 for &i in &self.interface_dofs {
-                    let (a, b) = (ptr[i], ptr[i + 1]);
-                    to[a..b].copy_from_slice(&from[a..b]);
+                    back(ptr[i]..ptr[i + 1]);
                 }
+                self.rotations.for_each_touched(&mut back);
+                self.prepared.for_each_touched(&mut back);
                 debug_assert!(
                     k.values()
                         .iter()

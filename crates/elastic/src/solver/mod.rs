@@ -455,8 +455,13 @@ impl<'a> StaticSolver<'a> {
                 };
                 self.dirichlet.set(2 * node + c, 0.0);
                 self.prepared = self.dirichlet.prepare(self.assembler.pattern())?;
-                // a condensation of the old constraints no longer holds
+                // a condensation of the old constraints no longer holds,
+                // and the used tangents kept for their storage were
+                // constrained elsewhere
                 self.condensed = None;
+                if let Ok(mut v) = self.spare_tangents.lock() {
+                    v.clear();
+                }
                 let all = self.model.mesh.bodies();
                 let mut nodes: Vec<usize> = all
                     .iter()
