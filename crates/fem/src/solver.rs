@@ -116,9 +116,6 @@ pub struct CholeskySolver {
     /// The supernode of each column of a supernodal factor (empty for a
     /// simplicial one), for the forward solves of unit vectors.
     supernode_of: std::sync::Arc<Vec<u32>>,
-    /// The split of the elimination tree for two-thread triangular solves
-    /// (supernodal factors with enough entries and two even halves).
-    split: Option<crate::triangular::TreeSplit>,
     l_values: Vec<f64>,
     factorised: bool,
 }
@@ -232,17 +229,10 @@ impl CholeskySolver {
             }
             _ => Vec::new(),
         };
-        let split = match symbolic.raw() {
-            faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(sym) => {
-                crate::triangular::tree_split(sym, &supernode_of)
-            }
-            _ => None,
-        };
         Ok(CholeskySolver {
             pattern,
             symbolic: std::sync::Arc::new(symbolic),
             supernode_of: std::sync::Arc::new(supernode_of),
-            split,
             l_values,
             factorised: false,
         })
@@ -255,7 +245,6 @@ impl CholeskySolver {
             pattern: self.pattern.clone(),
             symbolic: self.symbolic.clone(),
             supernode_of: self.supernode_of.clone(),
-            split: self.split,
             l_values: vec![0.0; self.l_values.len()],
             factorised: false,
         }
@@ -293,11 +282,6 @@ impl CholeskySolver {
     /// The supernode of each column (supernodal factors only).
     pub(crate) fn supernode_of(&self) -> &[u32] {
         &self.supernode_of
-    }
-
-    /// The split of the elimination tree for two-thread triangular solves.
-    pub(crate) fn tree_split(&self) -> Option<crate::triangular::TreeSplit> {
-        self.split
     }
 
     /// Number of stored entries in the factor.
