@@ -573,7 +573,7 @@ impl StaticSolver<'_> {
                         .iter()
                         .zip(self.k_bulk.values())
                         .all(|(x, y)| x.to_bits() == y.to_bits()),
-                    "a recycled tangent differed from K_bulk outside the interface rows"
+                    "a recycled tangent differed from K_bulk outside the slots that the interfaces, rotations and constraints change"
                 );
                 k
             }
