@@ -18,6 +18,12 @@ pub struct SparsityPattern {
     /// Node block size c: rows c·m … c·m+c−1 share their columns, which come
     /// in whole node groups (1 for a scalar pattern).
     block: usize,
+    /// For c ≥ 2: the node columns of every node row (row m's are
+    /// `node_indices[node_indptr[m]..node_indptr[m + 1]]`), 32-bit, for
+    /// [`CsrMatrix::mul_vec`]: one index per c² values instead of one per
+    /// value (empty for c = 1).
+    node_indptr: Vec<usize>,
+    node_indices: Vec<u32>,
 }
 
 impl SparsityPattern {
@@ -56,6 +62,8 @@ impl SparsityPattern {
                 .map(|(&(ndof, _), d)| (ndof / c, d.as_slice()))
                 .collect();
             let (np, ni) = scalar_pattern(n / c, &node_blocks);
+            // (scalar_pattern numbers nodes in 32 bits already)
+            let node_indices: Vec<u32> = ni.iter().map(|&m| m as u32).collect();
             let mut indptr = Vec::with_capacity(n + 1);
             let mut indices = Vec::with_capacity(ni.len() * c * c);
             indptr.push(0);
@@ -73,6 +81,8 @@ impl SparsityPattern {
                 indptr,
                 indices,
                 block: c,
+                node_indptr: np,
+                node_indices,
             });
         }
         let (indptr, indices) = scalar_pattern(n, blocks);
@@ -81,6 +91,8 @@ impl SparsityPattern {
             indptr,
             indices,
             block: 1,
+            node_indptr: Vec::new(),
+            node_indices: Vec::new(),
         })
     }
 
@@ -105,6 +117,8 @@ impl SparsityPattern {
             indptr,
             indices,
             block: 1,
+            node_indptr: Vec::new(),
+            node_indices: Vec::new(),
         })
     }
 
@@ -272,9 +286,19 @@ impl CsrMatrix {
 
     /// y = A x (rows in tasks of at least [`MUL_VEC_MIN_ROWS`]; each row's
     /// sum is formed in one task, so the result does not depend on the
-    /// thread count).
+    /// thread count). A node-blocked pattern (block size c ≥ 2) reads its
+    /// 32-bit node columns instead of the per-entry ones: the same sums in
+    /// the same order (the same bits), with a sixteenth of the index
+    /// traffic for c = 2.
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         let p = &self.pattern;
+        let c = p.block;
+        if c == 2 {
+            return self.mul_vec_blocked::<2>(x, y);
+        }
+        if c == 3 {
+            return self.mul_vec_blocked::<3>(x, y);
+        }
         y.par_iter_mut()
             .with_min_len(MUL_VEC_MIN_ROWS)
             .enumerate()
@@ -284,6 +308,36 @@ impl CsrMatrix {
                     s += self.values[k] * x[p.indices[k]];
                 }
                 *yi = s;
+            });
+    }
+
+    /// [`CsrMatrix::mul_vec`] of a pattern with node blocks of `C` dofs:
+    /// dof row `C·m + r` holds, for every node column `k` of node row `m`,
+    /// the `C` entries of columns `C·k … C·k + C − 1`, in that order.
+    fn mul_vec_blocked<const C: usize>(&self, x: &[f64], y: &mut [f64]) {
+        let p = &self.pattern;
+        let v = &self.values;
+        y.par_chunks_mut(C)
+            .with_min_len(MUL_VEC_MIN_ROWS / C)
+            .enumerate()
+            .for_each(|(m, ym)| {
+                let nodes = &p.node_indices[p.node_indptr[m]..p.node_indptr[m + 1]];
+                // the C rows of node m side by side: C independent sums
+                // (each in its own order) instead of one chain of additions
+                let rows: [&[f64]; C] = std::array::from_fn(|r| {
+                    let a = p.indptr[C * m + r];
+                    &v[a..a + C * nodes.len()]
+                });
+                let mut s = [0.0; C];
+                for (j, &k) in nodes.iter().enumerate() {
+                    let xk = &x[C * k as usize..C * k as usize + C];
+                    for r in 0..C {
+                        for l in 0..C {
+                            s[r] += rows[r][C * j + l] * xk[l];
+                        }
+                    }
+                }
+                ym.copy_from_slice(&s);
             });
     }
 
@@ -324,5 +378,75 @@ impl CsrMatrix {
             }
         }
         if amax == 0.0 { 0.0 } else { dmax / amax }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A[i][j] by the definition, row by row and left to right.
+    fn reference(m: &CsrMatrix, x: &[f64]) -> Vec<f64> {
+        let p = m.pattern();
+        (0..p.n())
+            .map(|i| {
+                let mut s = 0.0;
+                for k in p.indptr()[i]..p.indptr()[i + 1] {
+                    s += m.values()[k] * x[p.indices()[k]];
+                }
+                s
+            })
+            .collect()
+    }
+
+    /// Pseudo-random values in [-1, 1) (a fixed linear congruential sequence).
+    fn values(n: usize, seed: u64) -> Vec<f64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            })
+            .collect()
+    }
+
+    #[test]
+    fn node_blocked_products_are_the_plain_products_bit_for_bit() {
+        // a strip of triangles: nodes (i, j) of an nx × 3 grid, two
+        // triangles per cell, with c dofs per node (c = 2, 3), and a scalar
+        // pattern of the same mesh (block size 1)
+        let nx = 3000;
+        let node = |i: usize, j: usize| i * 3 + j;
+        let mut tris = Vec::new();
+        for i in 0..nx - 1 {
+            for j in 0..2 {
+                tris.push([node(i, j), node(i + 1, j), node(i + 1, j + 1)]);
+                tris.push([node(i, j), node(i + 1, j + 1), node(i, j + 1)]);
+            }
+        }
+        for c in [1, 2, 3] {
+            let dofs: Vec<usize> = tris
+                .iter()
+                .flat_map(|t| t.iter().flat_map(move |&a| (0..c).map(move |l| a * c + l)))
+                .collect();
+            let n = 3 * nx * c;
+            let p = Arc::new(SparsityPattern::from_blocks(n, &[(3 * c, &dofs)]).unwrap());
+            assert_eq!(p.block_size(), c);
+            let mut m = CsrMatrix::zeros(Arc::clone(&p));
+            m.values_mut().copy_from_slice(&values(p.nnz(), 7));
+            let x = values(n, 11);
+            let mut y = vec![0.0; n];
+            m.mul_vec(&x, &mut y);
+            let want = reference(&m, &x);
+            for (i, (a, b)) in y.iter().zip(&want).enumerate() {
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "c = {c}, row {i}: {a} against {b}"
+                );
+            }
+        }
     }
 }
