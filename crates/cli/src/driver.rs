@@ -647,7 +647,12 @@ fn run_analysis(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, D
     let mut notes = Vec::new();
     if let (Coupling::TwoWay(c), Some(th)) = (setup.coupling, &setup.thermal) {
         if !setup.coupled_interfaces.is_empty() {
-            return crate::coupling_loop::two_way(setup, th, c, &pb, history_nodes);
+            // on a worker of the thread pool: the parallel loops of the
+            // contact solves then run on the pool directly instead of
+            // waking it from outside (and waiting) every time
+            return rayon::scope(|_| {
+                crate::coupling_loop::two_way(setup, th, c, &pb, history_nodes)
+            });
         }
         notes.push(CONSTANT_TWO_WAY_NOTE.to_string());
     }
@@ -685,7 +690,8 @@ fn run_analysis(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, D
             };
             info.map(|i| (i, clock.elapsed().as_secs_f64()))
         });
-        let contact_side = (|| {
+        // on a worker of the thread pool (see the two-way run above)
+        let contact_side = rayon::scope(|_| {
             let clock = std::time::Instant::now();
             let mut contact = Contact::new(setup, reference)?;
             let mut feed = ThermalFeed::incoming(incoming);
@@ -695,7 +701,7 @@ fn run_analysis(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, D
             Ok::<_, DriverError>((contact, states, seconds))
             // (`feed` drops here: a heat conduction still running sends
             // into nothing)
-        })();
+        });
         if contact_side.is_err() {
             stop.store(true, std::sync::atomic::Ordering::Relaxed);
         }
