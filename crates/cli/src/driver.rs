@@ -649,7 +649,11 @@ fn run_analysis(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, D
         if !setup.coupled_interfaces.is_empty() {
             // on a worker of the thread pool: the parallel loops of the
             // contact solves then run on the pool directly instead of
-            // waking it from outside (and waiting) every time
+            // waking it from outside (and waiting) every time. (Nothing
+            // else runs beside the two-way loop, so even a pool of one
+            // worker cannot wait on itself; the one-way contact side below
+            // waits for the heat conduction's thread and stays off the
+            // pool.)
             return rayon::scope(|_| {
                 crate::coupling_loop::two_way(setup, th, c, &pb, history_nodes)
             });
@@ -690,8 +694,10 @@ fn run_analysis(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, D
             };
             info.map(|i| (i, clock.elapsed().as_secs_f64()))
         });
-        // on a worker of the thread pool (see the two-way run above)
-        let contact_side = rayon::scope(|_| {
+        // (on this thread, not a worker of the pool: with one worker, a
+        // worker waiting here for the heat conduction's states would hold
+        // the heat conduction's own parallel loops up forever)
+        let contact_side = (|| {
             let clock = std::time::Instant::now();
             let mut contact = Contact::new(setup, reference)?;
             let mut feed = ThermalFeed::incoming(incoming);
@@ -701,7 +707,7 @@ fn run_analysis(setup: &Setup<'_>, history_nodes: &[usize]) -> Result<Outcome, D
             Ok::<_, DriverError>((contact, states, seconds))
             // (`feed` drops here: a heat conduction still running sends
             // into nothing)
-        });
+        })();
         if contact_side.is_err() {
             stop.store(true, std::sync::atomic::Ordering::Relaxed);
         }

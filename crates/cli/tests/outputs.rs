@@ -259,6 +259,56 @@ fn summary_json_is_bitwise_the_same_on_one_and_two_threads_and_timings_go_apart(
     );
 }
 
+/// The two-way loop runs on a worker of the thread pool: with a pool of
+/// one worker it must neither wait on itself (the child is killed after
+/// five minutes) nor change a bit of the results.
+#[test]
+fn two_way_summary_is_bitwise_the_same_on_one_and_two_threads() {
+    let d = tempfile::tempdir().unwrap();
+    let mut texts = Vec::new();
+    for threads in ["1", "2"] {
+        let out = d.path().join(format!("t{threads}"));
+        let mut child = tecon()
+            .env("RAYON_NUM_THREADS", threads)
+            .args([
+                "vessel",
+                "--mesh",
+                "paper",
+                "--coupling",
+                "two-way",
+                "--conductance",
+                "contact",
+                "--quiet",
+                "--times",
+                "1,60",
+                "--out",
+            ])
+            .arg(&out)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status;
+            }
+            if std::time::Instant::now() > deadline {
+                child.kill().unwrap();
+                panic!("the two-way run on {threads} thread(s) did not finish in 300 s");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        };
+        assert!(status.success(), "two-way on {threads} thread(s): {status}");
+        texts.push(std::fs::read(out.join("summary.json")).unwrap());
+    }
+    assert!(String::from_utf8_lossy(&texts[0]).contains("\"two-way\""));
+    assert!(
+        texts[0] == texts[1],
+        "summary.json differs between 1 and 2 threads"
+    );
+}
+
 #[test]
 fn the_yield_check_names_the_regions_above_yield_and_the_peak() {
     let d = tempfile::tempdir().unwrap();
