@@ -225,32 +225,50 @@ fn report_html_is_self_contained_and_renders_its_figures_in_chromium() {
     );
 }
 
+/// `tecon vessel --mesh paper --quiet` with `extra` on `threads` threads
+/// into `out`: summary.json as bytes. The child is killed, and the test
+/// fails, after five minutes (a thread pool waiting on itself).
+fn paper_summary_on(threads: &str, out: &Path, extra: &[&str]) -> Vec<u8> {
+    let mut child = tecon()
+        .env("RAYON_NUM_THREADS", threads)
+        .args(["vessel", "--mesh", "paper", "--quiet", "--out"])
+        .arg(out)
+        .args(extra)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        if std::time::Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("tecon vessel {extra:?} on {threads} thread(s) did not finish in 300 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let o = child.wait_with_output().unwrap();
+    assert!(
+        o.status.success(),
+        "{extra:?} on {threads} thread(s): {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    std::fs::read(out.join("summary.json")).unwrap()
+}
+
 #[test]
 fn summary_json_is_bitwise_the_same_on_one_and_two_threads_and_timings_go_apart() {
     let d = tempfile::tempdir().unwrap();
     let mut texts = Vec::new();
     for threads in ["1", "2"] {
         let out = d.path().join(format!("t{threads}"));
-        let o = tecon()
-            .env("RAYON_NUM_THREADS", threads)
-            .args([
-                "vessel",
-                "--mesh",
-                "paper",
-                "--quiet",
-                "--times",
-                "1,600,72000",
-                "--out",
-            ])
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        texts.push(paper_summary_on(threads, &out, &["--times", "1,600,72000"]));
         let timing: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("timing.json")).unwrap())
                 .unwrap();
         assert!(timing["seconds"].as_f64().unwrap() > 0.0);
-        texts.push(std::fs::read(out.join("summary.json")).unwrap());
     }
     assert!(!String::from_utf8_lossy(&texts[0]).contains("\"seconds"));
     assert!(
@@ -260,48 +278,23 @@ fn summary_json_is_bitwise_the_same_on_one_and_two_threads_and_timings_go_apart(
 }
 
 /// The two-way loop runs on a worker of the thread pool: with a pool of
-/// one worker it must neither wait on itself (the child is killed after
-/// five minutes) nor change a bit of the results.
+/// one worker it must neither wait on itself nor change a bit of the
+/// results.
 #[test]
 fn two_way_summary_is_bitwise_the_same_on_one_and_two_threads() {
     let d = tempfile::tempdir().unwrap();
-    let mut texts = Vec::new();
-    for threads in ["1", "2"] {
-        let out = d.path().join(format!("t{threads}"));
-        let mut child = tecon()
-            .env("RAYON_NUM_THREADS", threads)
-            .args([
-                "vessel",
-                "--mesh",
-                "paper",
-                "--coupling",
-                "two-way",
-                "--conductance",
-                "contact",
-                "--quiet",
-                "--times",
-                "1,60",
-                "--out",
-            ])
-            .arg(&out)
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
-        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if std::time::Instant::now() > deadline {
-                child.kill().unwrap();
-                panic!("the two-way run on {threads} thread(s) did not finish in 300 s");
-            }
-            std::thread::sleep(std::time::Duration::from_millis(50));
-        };
-        assert!(status.success(), "two-way on {threads} thread(s): {status}");
-        texts.push(std::fs::read(out.join("summary.json")).unwrap());
-    }
+    let extra = [
+        "--coupling",
+        "two-way",
+        "--conductance",
+        "contact",
+        "--times",
+        "1,60",
+    ];
+    let texts: Vec<Vec<u8>> = ["1", "2"]
+        .iter()
+        .map(|t| paper_summary_on(t, &d.path().join(format!("t{t}")), &extra))
+        .collect();
     assert!(String::from_utf8_lossy(&texts[0]).contains("\"two-way\""));
     assert!(
         texts[0] == texts[1],
