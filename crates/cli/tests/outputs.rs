@@ -229,31 +229,33 @@ fn report_html_is_self_contained_and_renders_its_figures_in_chromium() {
 /// into `out`: summary.json as bytes. The child is killed, and the test
 /// fails, after five minutes (a thread pool waiting on itself).
 fn paper_summary_on(threads: &str, out: &Path, extra: &[&str]) -> Vec<u8> {
+    let err = out.with_extension("stderr");
     let mut child = tecon()
         .env("RAYON_NUM_THREADS", threads)
         .args(["vessel", "--mesh", "paper", "--quiet", "--out"])
         .arg(out)
         .args(extra)
         .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
+        // to a file, not a pipe: an unread pipe that fills would stop the
+        // child and look like the hang the deadline is there to catch
+        .stderr(std::fs::File::create(&err).unwrap())
         .spawn()
         .unwrap();
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            break;
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
         }
         if std::time::Instant::now() > deadline {
             child.kill().unwrap();
             panic!("tecon vessel {extra:?} on {threads} thread(s) did not finish in 300 s");
         }
         std::thread::sleep(std::time::Duration::from_millis(50));
-    }
-    let o = child.wait_with_output().unwrap();
+    };
     assert!(
-        o.status.success(),
+        status.success(),
         "{extra:?} on {threads} thread(s): {}",
-        String::from_utf8_lossy(&o.stderr)
+        std::fs::read_to_string(&err).unwrap_or_default()
     );
     std::fs::read(out.join("summary.json")).unwrap()
 }

@@ -61,17 +61,15 @@ impl SparsityPattern {
                 .zip(&node_dofs)
                 .map(|(&(ndof, _), d)| (ndof / c, d.as_slice()))
                 .collect();
-            let (np, ni) = scalar_pattern(n / c, &node_blocks);
-            // (scalar_pattern numbers nodes in 32 bits already)
-            let node_indices: Vec<u32> = ni.iter().map(|&m| m as u32).collect();
+            let (np, node_indices) = scalar_pattern(n / c, &node_blocks);
             let mut indptr = Vec::with_capacity(n + 1);
-            let mut indices = Vec::with_capacity(ni.len() * c * c);
+            let mut indices = Vec::with_capacity(node_indices.len() * c * c);
             indptr.push(0);
             for a in 0..n / c {
-                let row = &ni[np[a]..np[a + 1]];
+                let row = &node_indices[np[a]..np[a + 1]];
                 for _ in 0..c {
                     for &m in row {
-                        indices.extend((0..c).map(|l| m * c + l));
+                        indices.extend((0..c).map(|l| m as usize * c + l));
                     }
                     indptr.push(indices.len());
                 }
@@ -86,6 +84,7 @@ impl SparsityPattern {
             });
         }
         let (indptr, indices) = scalar_pattern(n, blocks);
+        let indices = indices.into_iter().map(|j| j as usize).collect();
         Ok(SparsityPattern {
             n,
             indptr,
@@ -156,7 +155,8 @@ impl SparsityPattern {
 }
 
 /// Sorted, deduplicated CSR pattern (with diagonal) of the union of element cliques.
-fn scalar_pattern(n: usize, blocks: &[(usize, &[usize])]) -> (Vec<usize>, Vec<usize>) {
+/// (Column indices in 32 bits, as they are sorted.)
+fn scalar_pattern(n: usize, blocks: &[(usize, &[usize])]) -> (Vec<usize>, Vec<u32>) {
     // Upper bound of entries per row: 1 (diagonal) + ndof per element touching it.
     let mut count = vec![1usize; n];
     for &(ndof, dofs) in blocks {
@@ -216,11 +216,7 @@ fn scalar_pattern(n: usize, blocks: &[(usize, &[usize])]) -> (Vec<usize>, Vec<us
     }
     let mut indices = Vec::with_capacity(indptr[n]);
     for i in 0..n {
-        indices.extend(
-            cand[start[i]..start[i] + lens[i]]
-                .iter()
-                .map(|&c| c as usize),
-        );
+        indices.extend_from_slice(&cand[start[i]..start[i] + lens[i]]);
     }
     (indptr, indices)
 }
@@ -292,12 +288,10 @@ impl CsrMatrix {
     /// traffic for c = 2.
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         let p = &self.pattern;
-        let c = p.block;
-        if c == 2 {
-            return self.mul_vec_blocked::<2>(x, y);
-        }
-        if c == 3 {
-            return self.mul_vec_blocked::<3>(x, y);
+        match p.block {
+            2 => return self.mul_vec_blocked::<2>(x, y),
+            3 => return self.mul_vec_blocked::<3>(x, y),
+            _ => {}
         }
         y.par_iter_mut()
             .with_min_len(MUL_VEC_MIN_ROWS)
