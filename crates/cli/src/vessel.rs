@@ -1272,6 +1272,7 @@ pub fn coupling_json(c: &crate::driver::CouplingStats) -> Value {
         "mode": "two-way",
         "sync": if c.sync_tolerance.is_some() { "adaptive" } else { "fixed" },
         "sync_tolerance": c.sync_tolerance,
+        "intermediate_outer_tolerance": c.intermediate_outer_tolerance,
         "rejected_blocks": c.rejected,
         "blocks": c.blocks,
         "iterations": c.iterations,

@@ -145,3 +145,55 @@ fn a_guess_of_another_mesh_is_refused() {
     let e = solver.resume_warm(&state, &bad).unwrap_err().to_string();
     assert!(e.contains("displacement value 3 is not finite"), "{e}");
 }
+
+/// Most outer updates of any increment.
+fn outer_updates(r: &[IncrementReport]) -> usize {
+    r.iter().map(|r| r.augmentations).max().unwrap_or(0)
+}
+
+#[test]
+fn an_outer_tolerance_floor_stops_the_outer_loop_sooner_within_that_floor() {
+    let geo = MultilayerGeometry::staggered(0.762, 12.7e-3, 1, 6.4e-3, 3.8e-3);
+    let mesh = multilayer_vessel_mesh(&geo, &MultilayerMeshSpec::default()).unwrap();
+    let m = model(&mesh, geo.layers[0].thickness / 2.0);
+    let mut solver = StaticSolver::new(&m, options()).unwrap();
+    solver.advance(&loads(&mesh, 0.8)).unwrap();
+    let b = solver.state();
+
+    let tight = solver.advance(&loads(&mesh, 1.0)).unwrap();
+    let (u_tight, p_tight) = (
+        solver.raw_displacement().to_vec(),
+        solver.interface_results(),
+    );
+
+    let floor = 3e-3;
+    solver.resume(&b).unwrap();
+    solver.set_outer_tolerance_floor(floor);
+    let loose = solver.advance(&loads(&mesh, 1.0)).unwrap();
+    let p_loose = solver.interface_results();
+    let p_max = max_abs(p_tight.iter().map(|p| p.traction[1]));
+    let dp = max_abs(
+        p_tight
+            .iter()
+            .zip(&p_loose)
+            .flat_map(|(x, y)| [x.traction[0] - y.traction[0], x.traction[1] - y.traction[1]]),
+    ) / p_max;
+    eprintln!(
+        "outer updates: tight {}, floor {floor:e}: {}; Newton iterations {} and {}; traction difference {dp:.2e} of the largest pressure",
+        outer_updates(&tight),
+        outer_updates(&loose),
+        iterations(&tight),
+        iterations(&loose)
+    );
+    assert!(outer_updates(&loose) < outer_updates(&tight));
+    // the loop stops once an update changes the multipliers and limits by
+    // less than the floor × the largest pressure; with a contraction
+    // below 1/2 per update the answer is within that of the fixed point
+    assert!(dp > 0.0 && dp < floor, "{dp:e}");
+
+    // the floor set back to 0: the solver's own tolerances, the same bits
+    solver.resume(&b).unwrap();
+    solver.set_outer_tolerance_floor(0.0);
+    solver.advance(&loads(&mesh, 1.0)).unwrap();
+    assert_eq!(solver.raw_displacement(), &u_tight[..]);
+}

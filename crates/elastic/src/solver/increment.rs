@@ -316,8 +316,10 @@ impl StaticSolver<'_> {
             let (max_friction_change, max_change) =
                 self.update_outer(&u, &mut committed, (frozen_friction, al.is_some()));
             let scale = max_p.max(f64::MIN_POSITIVE);
-            let al_done = al.is_none_or(|tol| max_change <= tol * scale);
-            let friction_done = max_friction_change <= self.options.friction_tolerance * scale;
+            let floor = self.outer_floor;
+            let al_done = al.is_none_or(|tol| max_change <= tol.max(floor) * scale);
+            let friction_done =
+                max_friction_change <= self.options.friction_tolerance.max(floor) * scale;
             if al_done && friction_done {
                 if !inexact(&history) {
                     // The last update changed almost nothing: the converged u

@@ -110,6 +110,9 @@ pub struct StaticSolver<'a> {
     /// The forcing of the next Newton pass (0: exact; see
     /// [`SolverOptions::pass_forcing`]).
     pass_forcing: f64,
+    /// Floor of the outer loop's stopping tolerances, as a fraction of the
+    /// largest contact pressure (see [`StaticSolver::set_outer_tolerance_floor`]).
+    outer_floor: f64,
     u: Vec<f64>,
     /// `u` in the output gauge (see [`StaticSolver::displacement`]).
     gauged: Vec<f64>,
@@ -287,6 +290,7 @@ impl<'a> StaticSolver<'a> {
             lu: None,
             outer_stalled: false,
             pass_forcing: 0.0,
+            outer_floor: 0.0,
             u: vec![0.0; n],
             gauged: vec![0.0; n],
             gauges: Vec::new(),
@@ -307,6 +311,18 @@ impl<'a> StaticSolver<'a> {
     /// body of the free mode. Jumps, strains and stresses do not change;
     /// the answer no longer depends on which node carried the constraint
     /// nor on the local deformation there.
+    /// Lets the outer loop of the next solves (the multiplier updates and
+    /// the frozen friction limits) stop once its changes are below `floor`
+    /// × the largest contact pressure, where that is looser than the
+    /// options' tolerances (0, the default: the options' tolerances). For
+    /// solves whose answer is needed only to a known accuracy, such as the
+    /// contact states between the output times of a two-way coupling,
+    /// which feed only the interface conductance; the last pass is still
+    /// solved to the Newton tolerances.
+    pub fn set_outer_tolerance_floor(&mut self, floor: f64) {
+        self.outer_floor = floor.max(0.0);
+    }
+
     pub fn displacement(&self) -> &[f64] {
         &self.gauged
     }
