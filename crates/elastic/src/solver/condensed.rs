@@ -125,10 +125,7 @@ impl StaticSolver<'_> {
             // the full pass's analysis (the fall-back needs it anyway)
             let c = match &mut self.cholesky {
                 Some(c) => c,
-                None => self.cholesky.insert(UpdatedCholesky::analyse(
-                    self.assembler.pattern().clone(),
-                    MAX_UPDATE_RANK,
-                )?),
+                None => self.cholesky.insert(self.tangent_cholesky()?),
             };
             choice = m * m <= c.factor_nnz();
         }

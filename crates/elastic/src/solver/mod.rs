@@ -311,6 +311,18 @@ impl<'a> StaticSolver<'a> {
     /// body of the free mode. Jumps, strains and stresses do not change;
     /// the answer no longer depends on which node carried the constraint
     /// nor on the local deformation there.
+    /// The symbolic analysis of the tangents' sparse Cholesky factor, with
+    /// low-rank reuse. The tangents differ in the interface nodes' rows
+    /// only (the bulk, its supports and the rotations of skew supports are
+    /// the same at every iteration), so only those rows are searched for
+    /// changes.
+    fn tangent_cholesky(&self) -> Result<UpdatedCholesky, ElasticError> {
+        Ok(
+            UpdatedCholesky::analyse(self.assembler.pattern().clone(), MAX_UPDATE_RANK)?
+                .with_candidate_rows(self.interface_dofs.clone()),
+        )
+    }
+
     /// Lets the outer loop of the next solves (the multiplier updates and
     /// the frozen friction limits) stop once its changes are below `floor`
     /// × the largest contact pressure, where that is looser than the
@@ -516,13 +528,7 @@ impl<'a> StaticSolver<'a> {
         if symmetric {
             let c = match &mut self.cholesky {
                 Some(c) => c,
-                None => self.cholesky.insert(
-                    // the tangents differ in the interface nodes' rows
-                    // only (the bulk, its supports and the rotations of
-                    // skew supports are the same at every iteration)
-                    UpdatedCholesky::analyse(kt.pattern().clone(), MAX_UPDATE_RANK)?
-                        .with_candidate_rows(self.interface_dofs.clone()),
-                ),
+                None => self.cholesky.insert(self.tangent_cholesky()?),
             };
             // a tangent that differs from the factorised one only where a
             // few interface points changed branch is solved by a low-rank
