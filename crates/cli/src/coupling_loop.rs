@@ -114,9 +114,8 @@ pub struct CouplingStats {
 /// conductance changes about in proportion to the pressure) and the
 /// friction history, which the solve at the output time corrects to the
 /// full tolerances. Measured on the default vessel in docs/coupling.md
-/// ("Staggered two-way coupling"); with the whole of τ as the tolerance
-/// the final slip zone there changed (14 slipping points to 1), with a
-/// third of it not.
+/// ("Staggered two-way coupling"); the whole of τ saved no more Newton
+/// iterations there.
 pub const INTERMEDIATE_OUTER_SHARE: f64 = 1.0 / 3.0;
 
 /// Interface point states of the coupled interfaces: per interface, per
