@@ -222,6 +222,13 @@ fn vessel_two_way_cools_the_core_under_the_weld() {
     eprintln!("layer outer hoop: one-way {a:.5e}, two-way {b:.5e}");
     assert!((b / a - 1.0).abs() < 0.02);
     assert_eq!(v2["coupling"]["unsettled_blocks"], 0);
+    // the solves between the output times stop their outer loop at a
+    // third of the block error budget; the written ones do not
+    let tau = tecon_cli::coupling_loop::DEFAULT_SYNC_TOLERANCE;
+    assert_eq!(
+        v2["coupling"]["intermediate_outer_tolerance"].as_f64(),
+        Some(tau * tecon_cli::coupling_loop::INTERMEDIATE_OUTER_SHARE)
+    );
     // the largest count per increment covers every contact solve of the
     // coupling loop, not only the written ones: it cannot be below the mean
     let n = &v2["newton"];

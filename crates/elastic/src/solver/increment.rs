@@ -316,7 +316,16 @@ impl StaticSolver<'_> {
             let (max_friction_change, max_change) =
                 self.update_outer(&u, &mut committed, (frozen_friction, al.is_some()));
             let scale = max_p.max(f64::MIN_POSITIVE);
-            let floor = self.outer_floor;
+            // the floor bounds the estimated distance to the fixed point (see
+            // `StaticSolver::set_outer_tolerance_floor`)
+            let change = max_change.max(max_friction_change);
+            if let Some(&previous) = outer_changes.last()
+                && previous > 0.0
+            {
+                self.outer_contraction = change / previous;
+            }
+            let rho = self.outer_contraction.min(MAX_ESTIMATED_CONTRACTION);
+            let floor = self.outer_floor / (rho / (1.0 - rho)).max(1.0);
             let al_done = al.is_none_or(|tol| max_change <= tol.max(floor) * scale);
             let friction_done =
                 max_friction_change <= self.options.friction_tolerance.max(floor) * scale;
@@ -336,7 +345,6 @@ impl StaticSolver<'_> {
             // OUTER_EXTENSION × the limit. High friction (μ ≳ 3) converges
             // slowly but surely there; a stagnating loop still stops at the
             // limit.
-            let change = max_change.max(max_friction_change);
             let progressing = outer_changes.len() >= PROGRESS_WINDOW
                 && change <= 0.5 * outer_changes[outer_changes.len() - PROGRESS_WINDOW];
             outer_changes.push(change);
@@ -412,6 +420,11 @@ impl StaticSolver<'_> {
         Ok((u, states, start, report))
     }
 }
+
+/// Largest contraction of the outer loop taken in the error estimate of
+/// [`StaticSolver::set_outer_tolerance_floor`]: the floor is divided by at
+/// most ρ/(1 − ρ) = 19.
+const MAX_ESTIMATED_CONTRACTION: f64 = 0.95;
 
 /// The forcing of the first pass of an increment, as a fraction of
 /// [`SolverOptions::pass_forcing`] (see there).
