@@ -70,11 +70,17 @@ fn max_abs(v: impl Iterator<Item = f64>) -> f64 {
     v.map(f64::abs).fold(0.0, f64::max)
 }
 
-#[test]
-fn warm_start_gives_the_cold_answer_in_fewer_iterations() {
+/// The one-layer ring of these tests and its interface penalty's element size.
+fn ring() -> (Mesh, f64) {
     let geo = MultilayerGeometry::staggered(0.762, 12.7e-3, 1, 6.4e-3, 3.8e-3);
     let mesh = multilayer_vessel_mesh(&geo, &MultilayerMeshSpec::default()).unwrap();
-    let m = model(&mesh, geo.layers[0].thickness / 2.0);
+    (mesh, geo.layers[0].thickness / 2.0)
+}
+
+#[test]
+fn warm_start_gives_the_cold_answer_in_fewer_iterations() {
+    let (mesh, h) = ring();
+    let m = model(&mesh, h);
     let mut solver = StaticSolver::new(&m, options()).unwrap();
     solver.advance(&loads(&mesh, 0.6)).unwrap();
     let a = solver.state();
@@ -127,9 +133,8 @@ fn warm_start_gives_the_cold_answer_in_fewer_iterations() {
 
 #[test]
 fn a_guess_of_another_mesh_is_refused() {
-    let geo = MultilayerGeometry::staggered(0.762, 12.7e-3, 1, 6.4e-3, 3.8e-3);
-    let mesh = multilayer_vessel_mesh(&geo, &MultilayerMeshSpec::default()).unwrap();
-    let m = model(&mesh, geo.layers[0].thickness / 2.0);
+    let (mesh, h) = ring();
+    let m = model(&mesh, h);
     let mut solver = StaticSolver::new(&m, options()).unwrap();
     let state = solver.state();
     let e = solver
@@ -153,9 +158,8 @@ fn outer_updates(r: &[IncrementReport]) -> usize {
 
 #[test]
 fn an_outer_tolerance_floor_stops_the_outer_loop_sooner_within_that_floor() {
-    let geo = MultilayerGeometry::staggered(0.762, 12.7e-3, 1, 6.4e-3, 3.8e-3);
-    let mesh = multilayer_vessel_mesh(&geo, &MultilayerMeshSpec::default()).unwrap();
-    let m = model(&mesh, geo.layers[0].thickness / 2.0);
+    let (mesh, h) = ring();
+    let m = model(&mesh, h);
     let mut solver = StaticSolver::new(&m, options()).unwrap();
     solver.advance(&loads(&mesh, 0.8)).unwrap();
     let b = solver.state();
