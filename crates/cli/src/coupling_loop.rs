@@ -112,10 +112,10 @@ pub struct CouplingStats {
 /// in the contact pressures, as a fraction of the largest pressure. Such a
 /// solve feeds only the conductance of the next blocks (the power-law
 /// conductance changes about in proportion to the pressure) and the
-/// friction history, which the solve at the output time corrects to the
-/// full tolerances. Measured on the default vessel in docs/coupling.md
-/// ("Staggered two-way coupling"); the whole of τ saved no more Newton
-/// iterations there.
+/// friction history: a point that slips there and sticks from then on
+/// keeps an error of up to this floor in its shear. Measured on the
+/// default vessel in docs/coupling.md ("Staggered two-way coupling"); the
+/// whole of τ saved no more Newton iterations there.
 pub const INTERMEDIATE_OUTER_SHARE: f64 = 1.0 / 3.0;
 
 /// Interface point states of the coupled interfaces: per interface, per

@@ -308,14 +308,6 @@ impl<'a> StaticSolver<'a> {
         })
     }
 
-    /// Committed displacements (and ε_zz last in generalised plane strain),
-    /// in the output gauge: when the solver fixed a free rigid translation
-    /// by a minimal constraint (one node), that translation is removed
-    /// again so that the area-weighted mean of the translated component
-    /// over the constrained body is zero, and shifted equally on every
-    /// body of the free mode. Jumps, strains and stresses do not change;
-    /// the answer no longer depends on which node carried the constraint
-    /// nor on the local deformation there.
     /// The symbolic analysis of the tangents' sparse Cholesky factor, with
     /// low-rank reuse. The tangents differ in the interface nodes' rows
     /// only (the bulk, its supports and the rotations of skew supports are
@@ -335,15 +327,24 @@ impl<'a> StaticSolver<'a> {
     /// tolerances). The distance is estimated from the last change and the
     /// contraction ρ of the last two, change · ρ/(1 − ρ), and never taken
     /// below the change itself: at μ = 0.3 ρ ≈ 0.3, so the change decides;
-    /// high friction contracts slowly and stops later. For
-    /// solves whose answer is needed only to a known accuracy, such as the
-    /// contact states between the output times of a two-way coupling,
-    /// which feed only the interface conductance; the last pass is still
-    /// solved to the Newton tolerances.
+    /// high friction contracts slowly and stops later. For solves whose
+    /// answer is needed only to a known accuracy, such as the contact
+    /// states between the output times of a two-way coupling, which feed
+    /// only the interface conductance (and the friction history, which
+    /// keeps errors of up to the floor); the last pass is still solved to
+    /// the Newton tolerances.
     pub fn set_outer_tolerance_floor(&mut self, floor: f64) {
         self.outer_floor = floor.max(0.0);
     }
 
+    /// Committed displacements (and ε_zz last in generalised plane strain),
+    /// in the output gauge: when the solver fixed a free rigid translation
+    /// by a minimal constraint (one node), that translation is removed
+    /// again so that the area-weighted mean of the translated component
+    /// over the constrained body is zero, and shifted equally on every
+    /// body of the free mode. Jumps, strains and stresses do not change;
+    /// the answer no longer depends on which node carried the constraint
+    /// nor on the local deformation there.
     pub fn displacement(&self) -> &[f64] {
         &self.gauged
     }
