@@ -681,8 +681,15 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
     }
     if let Some(c) = &run.coupling {
         s += &format!(
-            "two-way coupling: {} blocks, {} coupling iterations (at most {} in one block, {} unsettled, final conductance change ≤ {:.1e})\n",
-            c.blocks, c.iterations, c.max_iterations, c.unsettled, c.max_final_change
+            "two-way coupling: {} blocks, {} coupling iterations (at most {} in one block, {} unsettled, final conductance change ≤ {:.1e}{})\n",
+            c.blocks,
+            c.iterations,
+            c.max_iterations,
+            c.unsettled,
+            c.max_final_change,
+            c.intermediate_outer_tolerance.map_or(String::new(), |f| format!(
+                "; the contact solves between output times to {f:.1e} of the largest contact pressure in their outer loop"
+            ))
         );
     }
     s += &format!(
