@@ -115,6 +115,9 @@ pub struct VesselOptions {
     /// Newton passes condensed onto the interface dofs where cheaper
     /// (false: full passes always).
     pub condensation: bool,
+    /// The coarse interface space before the first pass of an increment,
+    /// with condensed passes (false: off).
+    pub coarse_space: bool,
     /// Every Newton pass solved to the full tolerances, also those an
     /// outer update follows (false: inexact passes, see
     /// `tecon_elastic::SolverOptions::pass_forcing`).
@@ -153,6 +156,7 @@ impl Default for VesselOptions {
             penalty_factor: tecon_contact::DEFAULT_PENALTY_FACTOR,
             augmented_lagrangian: Some(1e-4),
             condensation: true,
+            coarse_space: true,
             exact_passes: false,
             pressure: None,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
@@ -372,6 +376,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             augmented_lagrangian: Some(o.augmented_lagrangian.unwrap_or(0.0)),
             reference_temperature: None,
             condensation: Some(o.condensation),
+            coarse_space: Some(o.coarse_space),
             exact_passes: Some(o.exact_passes),
         },
         output: OutputSection {

@@ -362,6 +362,11 @@ pub struct MechanicalSection {
     /// them, where that is cheaper (default true; false: full passes
     /// always, as a cross-check: the answers agree to the tolerances).
     pub condensation: Option<bool>,
+    /// With condensed passes, Newton steps in a coarse space of fields
+    /// smooth along the interface before the first pass of an increment
+    /// that starts far from equilibrium (default true; false as a
+    /// cross-check: the answers agree to the tolerances).
+    pub coarse_space: Option<bool>,
     /// Every Newton pass solved to the full tolerances, also those an
     /// outer update follows (default false: such passes may stop early,
     /// the last one is exact; true as a cross-check: the answers agree to
@@ -610,6 +615,11 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     summary["newton_failed_attempt_iterations"] = json!(outcome.newton.failed_iterations);
     summary["newton_coupled_increments"] = json!(outcome.newton.coupled_increments);
     summary["newton_inexact_passes"] = json!(outcome.newton.inexact_passes);
+    // Newton steps in the coarse interface space (not in the iterations)
+    summary["newton_coarse_iterations"] = json!(outcome.newton.coarse_iterations);
+    summary["newton_max_coarse_iterations_per_increment"] =
+        json!(outcome.newton.max_coarse_per_increment);
+    summary["newton_coarse_space_dofs"] = json!(outcome.newton.coarse_dofs);
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);
         summary["coupling"]["per_output"] = json!(

@@ -272,6 +272,14 @@ pub struct NewtonStats {
     /// Interface dofs the Newton passes were condensed onto (None: full
     /// passes).
     pub condensed_dofs: Option<usize>,
+    /// Dofs of the coarse interface space of the condensed passes (None:
+    /// none).
+    pub coarse_dofs: Option<usize>,
+    /// Newton steps in the coarse interface space before first passes,
+    /// failed attempts included (not in `iterations`).
+    pub coarse_iterations: usize,
+    /// Most coarse steps before one increment, over every contact solve.
+    pub max_coarse_per_increment: usize,
     /// Newton iterations of failed attempts (cut back, or a stalled outer
     /// loop of frozen friction limits), not counted in `iterations`.
     pub failed_iterations: usize,
@@ -1011,6 +1019,8 @@ impl<'s> Contact<'s> {
         NewtonStats {
             solves: self.solver.solve_stats(),
             condensed_dofs: self.solver.condensed_dofs(),
+            coarse_dofs: self.solver.coarse_dofs(),
+            coarse_iterations: self.solver.coarse_iterations(),
             ..self.newton
         }
     }
@@ -1058,6 +1068,10 @@ impl<'s> Contact<'s> {
                 .filter(|p| p.last().is_some_and(|h| h.inexact))
                 .count();
             self.newton.max_per_increment = self.newton.max_per_increment.max(r.iterations);
+            self.newton.max_coarse_per_increment = self
+                .newton
+                .max_coarse_per_increment
+                .max(r.coarse_iterations);
             self.newton.max_augmentations = self.newton.max_augmentations.max(r.augmentations);
         }
         if self.setup.verbose {
@@ -1110,11 +1124,15 @@ pub fn interface_point_weights(model: &tecon_elastic::ElasticModel<'_>) -> Vec<f
 fn print_history(time: f64, reports: &[IncrementReport]) {
     for r in reports {
         eprintln!(
-            "{}, load fraction {:.3}: {} Newton iterations in {} passes, {} multiplier updates{}:",
+            "{}, load fraction {:.3}: {} Newton iterations in {} passes{}, {} multiplier updates{}:",
             crate::figures::time_label(time),
             r.fraction,
             r.iterations,
             r.passes.len(),
+            match r.coarse_iterations {
+                0 => String::new(),
+                k => format!(" after {k} steps in the coarse interface space"),
+            },
             r.augmentations,
             if r.coupled {
                 " (coupled Mohr–Coulomb Newton)"

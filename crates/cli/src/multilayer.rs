@@ -79,6 +79,9 @@ pub struct MultilayerOptions {
     /// Newton passes condensed onto the interface dofs where cheaper
     /// (false: full passes always).
     pub condensation: bool,
+    /// The coarse interface space with condensed passes (see
+    /// [`crate::builtin::VesselOptions::coarse_space`]).
+    pub coarse_space: bool,
     /// Every Newton pass solved to the full tolerances (see
     /// [`crate::builtin::VesselOptions::exact_passes`]).
     pub exact_passes: bool,
@@ -123,6 +126,7 @@ impl MultilayerOptions {
             pressure: None,
             quiet: false,
             condensation: true,
+            coarse_space: true,
             exact_passes: false,
             capacity: crate::case::Capacity::Consistent,
         })
@@ -231,6 +235,9 @@ pub struct StageResult {
     /// The interface dofs the stage's Newton passes were condensed onto
     /// (None: full passes, as with [`MultilayerOptions::condensation`] off).
     pub condensed_dofs: Option<usize>,
+    /// Newton steps in the coarse interface space of the condensed passes
+    /// (not in `newton_iterations`).
+    pub coarse_iterations: usize,
     /// The nodal temperatures (°C) at each of the stage's output times,
     /// (time in s, one value per node of the stage's mesh: the first nodes
     /// of the whole mesh); empty for the pressure stage.
@@ -427,6 +434,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         augmented_lagrangian: Some(1e-4),
         max_iterations: 150,
         condensation: o.condensation,
+        coarse_space: o.coarse_space,
         pass_forcing: if o.exact_passes {
             0.0
         } else {
@@ -554,6 +562,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             heat_balance: summary.max_balance_residual,
             seconds: (heat_seconds, contact_clock.elapsed().as_secs_f64()),
             condensed_dofs: solver.condensed_dofs(),
+            coarse_iterations: solver.coarse_iterations(),
             temperatures: times
                 .iter()
                 .zip(&outputs)
@@ -612,6 +621,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
             heat_balance: 0.0,
             seconds: (0.0, contact_clock.elapsed().as_secs_f64()),
             condensed_dofs: solver.condensed_dofs(),
+            coarse_iterations: solver.coarse_iterations(),
             temperatures: Vec::new(),
             bound_violation: None,
         });

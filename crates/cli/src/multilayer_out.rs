@@ -601,6 +601,8 @@ pub fn stage_summary(run: &MultilayerRun, stage: usize) -> Value {
         "rings": rings,
         "interfaces": interfaces,
         "newton_iterations": st.newton_iterations,
+        // steps in the coarse interface space (not in newton_iterations)
+        "coarse_iterations": st.coarse_iterations,
         "thermal_steps": st.thermal_steps,
         "max_heat_balance_residual": st.heat_balance,
         // K outside the bounds of the maximum principle, at any time step
@@ -963,9 +965,13 @@ pub fn report(run: &MultilayerRun) -> String {
             format!("internal pressure {:.3} MPa", st.pressure / 1e6)
         };
         s += &format!(
-            "stage {} ({what}): {} Newton iterations, {} thermal steps\n",
+            "stage {} ({what}): {} Newton iterations{}, {} thermal steps\n",
             i + 1,
             st.newton_iterations,
+            match st.coarse_iterations {
+                0 => String::new(),
+                c => format!(" (and {c} coarse interface steps)"),
+            },
             st.thermal_steps
         );
         for r in 0..=k {
@@ -1072,6 +1078,7 @@ pub fn run(
     o.times = args.times.clone();
     o.quiet = args.quiet;
     o.condensation = !args.no_condensation;
+    o.coarse_space = !args.no_coarse_space;
     o.exact_passes = args.exact_passes;
     o.capacity = crate::case::Capacity::parse(&args.capacity)?;
     if let Some(p) = args.pressure {

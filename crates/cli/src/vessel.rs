@@ -470,6 +470,11 @@ pub fn summary(run: &VesselRun) -> Value {
             "inexact_passes": run.newton.inexact_passes,
             // the bulk condensed onto this many interface dofs (null: full passes)
             "condensed_interface_dofs": run.newton.condensed_dofs,
+            // Newton steps in the coarse interface space before first
+            // passes (not in "iterations"), and its dofs (null: none)
+            "coarse_iterations": run.newton.coarse_iterations,
+            "max_coarse_iterations_per_increment": run.newton.max_coarse_per_increment,
+            "coarse_space_dofs": run.newton.coarse_dofs,
         },
         "joint": {
             "interface": run.options.interface.name(),
@@ -677,6 +682,12 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
     if let Some(m) = run.newton.condensed_dofs {
         s += &format!(
             "Newton passes condensed onto the {m} interface dofs (the bulk condensed once; --no-condensation for full passes)\n"
+        );
+    }
+    if let Some(c) = run.newton.coarse_dofs {
+        s += &format!(
+            "coarse interface space of {c} dofs: {} steps before first passes, at most {} before one increment, not counted as Newton iterations (--no-coarse-space to go without)\n",
+            run.newton.coarse_iterations, run.newton.max_coarse_per_increment
         );
     }
     if let Some(c) = &run.coupling {
@@ -949,6 +960,11 @@ pub struct VesselArgs {
     /// interface dofs (a cross-check; the answers agree to the tolerances)
     #[arg(long)]
     pub no_condensation: bool,
+    /// No coarse interface space before the first Newton pass of an
+    /// increment (condensed passes; a cross-check: the answers agree to
+    /// the tolerances)
+    #[arg(long)]
+    pub no_coarse_space: bool,
     /// Every Newton pass solved to the full tolerances, also those a
     /// friction-limit update follows (a cross-check; the answers agree to
     /// the tolerances)
@@ -1100,6 +1116,7 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
         },
         augmented_lagrangian: if args.penalty_only { None } else { Some(1e-4) },
         condensation: !args.no_condensation,
+        coarse_space: !args.no_coarse_space,
         exact_passes: args.exact_passes,
         normals: if args.element_normals {
             InterfaceNormals::Element

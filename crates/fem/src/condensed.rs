@@ -310,6 +310,12 @@ impl CondensedCholesky {
         Ok((kind, sx.unwrap_or(b)))
     }
 
+    /// C = A_ΓI A_II⁻¹ A_IΓ of the last condensation, m × m column-major
+    /// and exactly symmetric (zero before the first one).
+    pub fn coupling_matrix(&self) -> &[f64] {
+        &self.c
+    }
+
     /// S x, S = A_ΓΓ (values `gg`) − C.
     pub fn mul_schur(&self, gg: &[f64], x: &[f64]) -> Vec<f64> {
         self.schur_mul(gg, x)

@@ -33,6 +33,7 @@ use tecon_fem::{CondensedCholesky, FemError};
 
 use crate::error::{ElasticError, IterationRecord};
 
+use super::coarse::{COARSE_GATE, COARSE_MAX_ITERATIONS, COARSE_TOLERANCE, CoarseSpace};
 use super::line_search::root_along_ray;
 use super::newton::ROUND_OFF_FACTOR;
 use super::tracker::PassTracker;
@@ -55,6 +56,9 @@ pub(super) struct Condensed {
     /// Full-pattern matrix the interface tangents are assembled into; only
     /// its Γ × Γ entries are read (and zeroed before each assembly).
     scratch: CsrMatrix,
+    /// The coarse space of the first passes (None: off, or the interfaces
+    /// are no simple chains; see `coarse`).
+    coarse: Option<CoarseSpace>,
 }
 
 /// The state at the end of a condensed pass, kept so that the next pass of
@@ -137,6 +141,21 @@ impl StaticSolver<'_> {
     /// are.
     pub fn condensed_dofs(&self) -> Option<usize> {
         self.condensed.as_ref().map(|c| c.chol.gamma().len())
+    }
+
+    /// Newton steps taken in the coarse interface space before first passes
+    /// (see `coarse`), over the solver's life, failed attempts included;
+    /// not counted as Newton iterations.
+    pub fn coarse_iterations(&self) -> usize {
+        self.coarse_total
+    }
+
+    /// The coarse interface space's dofs, if the condensed passes have one.
+    pub fn coarse_dofs(&self) -> Option<usize> {
+        self.condensed
+            .as_ref()
+            .and_then(|c| c.coarse.as_ref())
+            .map(CoarseSpace::dofs)
     }
 
     /// How the condensed passes' dense interface systems were solved, and
@@ -278,11 +297,23 @@ impl StaticSolver<'_> {
         }
         let mut scratch = kb;
         scratch.values_mut().fill(0.0);
+        let coarse = if self.options.coarse_space {
+            let faces: Vec<_> = self
+                .model
+                .interfaces
+                .iter()
+                .map(super::coarse::element_faces)
+                .collect();
+            CoarseSpace::new(&faces, self.model.mesh.nodes(), &chol, &bulk_gg, &fixed)
+        } else {
+            None
+        };
         Ok(Condensed {
             chol,
             bulk_gg,
             fixed,
             scratch,
+            coarse,
         })
     }
 
@@ -339,6 +370,8 @@ impl StaticSolver<'_> {
         chain: Option<Chain>,
         pass: usize,
     ) -> Result<Outcome, ElasticError> {
+        // the first pass of an increment may start with the coarse space
+        let first = chain.is_none();
         let chain = match chain {
             Some(c) => c,
             None => self.chain_start(cx, f_ext, committed, u)?,
@@ -400,6 +433,33 @@ impl StaticSolver<'_> {
                 })
                 .collect()
         };
+        if first && let Some(space) = cx.coarse.take() {
+            // far from the new equilibrium: the coarse iteration first
+            let (fcg, _) = self.gamma_force(cx, &uf, committed, &mut fc, false)?;
+            let r_g = residual(&s_delta, &fcg, &cx.fixed);
+            let (_, f_int_norm) = scale(&cx.bulk_gg, &r_g, &uf);
+            let outcome = if norm(&r_g) >= COARSE_GATE * t.reference.max(f_int_norm) {
+                let ray = CoarseRay {
+                    gamma: &gamma,
+                    start: &u,
+                    rb0: &rb0,
+                };
+                self.coarse_iteration(
+                    cx,
+                    &space,
+                    committed,
+                    ray,
+                    (&mut delta, &mut s_delta),
+                    &mut uf,
+                )
+            } else {
+                Ok(0)
+            };
+            cx.coarse = Some(space);
+            let its = outcome?;
+            self.coarse_in_increment += its;
+            self.coarse_total += its;
+        }
         let mut converged = false;
         while t.history.len() < opts.max_iterations {
             let (fcg, gg) = self.gamma_force(cx, &uf, committed, &mut fc, true)?;
@@ -650,6 +710,82 @@ impl StaticSolver<'_> {
         }
     }
 
+    /// The coarse iteration before the first pass of an increment (see
+    /// `coarse`): Newton steps in the coarse space, δ ← δ + α P dc with
+    /// Pᵀ (S + K_c) P dc = Pᵀ r and the pass's exact energy line search,
+    /// until ‖Pᵀ r‖ has fallen by [`COARSE_TOLERANCE`], a step changes no
+    /// status, or [`COARSE_MAX_ITERATIONS`] steps; `delta`, `s_delta` (its
+    /// bulk product S δ) and `uf` move along. Returns the steps taken.
+    fn coarse_iteration(
+        &self,
+        cx: &mut Condensed,
+        space: &CoarseSpace,
+        committed: &[PointStates],
+        ray: CoarseRay<'_>,
+        (delta, s_delta): (&mut [f64], &mut [f64]),
+        uf: &mut [f64],
+    ) -> Result<usize, ElasticError> {
+        let CoarseRay { gamma, start, rb0 } = ray;
+        let m = gamma.len();
+        let mut fc = vec![0.0; uf.len()];
+        let mut first_norm = None;
+        let mut before: Option<Vec<PointStatus>> = None;
+        let mut steps = 0;
+        while steps < COARSE_MAX_ITERATIONS {
+            let (fcg, gg) = self.gamma_force(cx, uf, committed, &mut fc, true)?;
+            let gg = gg.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+            let r: Vec<f64> = (0..m)
+                .map(|a| {
+                    if cx.fixed[a] {
+                        0.0
+                    } else {
+                        rb0[a] - s_delta[a] - fcg[a]
+                    }
+                })
+                .collect();
+            let rc = space.restrict(&r);
+            let rn = norm(&rc);
+            let r0 = *first_norm.get_or_insert(rn);
+            let status: Vec<PointStatus> = self
+                .statuses(uf, committed)
+                .into_iter()
+                .map(|s| s.0)
+                .collect();
+            if rn <= COARSE_TOLERANCE * r0 || before.as_ref() == Some(&status) {
+                break;
+            }
+            before = Some(status);
+            let (ptr, col, _) = cx.chol.gamma_entries();
+            let Some(dc) = space.solve(ptr, col, &gg, rc) else {
+                // no coarse stiffness holds a body: the fine pass sees why
+                break;
+            };
+            let du = space.prolong(&dc);
+            if dot(&r, &du) <= 0.0 {
+                break;
+            }
+            let s_du = space.bulk_product(&dc);
+            let line = Ray {
+                gamma,
+                uf,
+                s_delta,
+                rb0,
+                r: &r,
+            };
+            let step = self.gamma_line_search(cx, committed, &line, &du, &s_du)?;
+            if step == 0.0 {
+                break;
+            }
+            for a in 0..m {
+                delta[a] += step * du[a];
+                s_delta[a] += step * s_du[a];
+                uf[gamma[a]] = start[gamma[a]] + delta[a];
+            }
+            steps += 1;
+        }
+        Ok(steps)
+    }
+
     /// The exact energy line search along `du` (on Γ): the bulk residual
     /// along the ray is `r_b − S δ − α S du`, with S the bulk's Schur
     /// complement and `s_du` = S du.
@@ -695,6 +831,14 @@ impl StaticSolver<'_> {
         }
         sx
     }
+}
+
+/// What the coarse iteration needs of a chain: Γ, the chain's start and
+/// the bulk residual on Γ there.
+struct CoarseRay<'a> {
+    gamma: &'a [usize],
+    start: &'a [f64],
+    rb0: &'a [f64],
 }
 
 /// A Newton ray on Γ: the iterate (full vector with current Γ entries),

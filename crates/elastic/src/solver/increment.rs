@@ -214,6 +214,7 @@ impl StaticSolver<'_> {
         let mut u = self.u.clone();
         // (a condensed pass of an earlier attempt is not continued)
         self.pending = None;
+        self.coarse_in_increment = 0;
         // Inexact passes while friction-limit updates follow (see
         // `SolverOptions::pass_forcing`); the next pass is exact once an
         // update after an inexact one changed almost nothing. Without
@@ -387,6 +388,7 @@ impl StaticSolver<'_> {
                 cutbacks: Vec::new(),
                 failed_iterations: 0,
                 history,
+                coarse_iterations: self.coarse_in_increment,
                 coupled: false,
             },
         ))

@@ -27,6 +27,7 @@
 //! `recovery` (stresses).
 
 mod assembly;
+mod coarse;
 mod condensed;
 mod front;
 mod increment;
@@ -92,6 +93,10 @@ pub struct StaticSolver<'a> {
     pending: Option<condensed::Pending>,
     /// Condensation was tried and the interior was not positive definite.
     condensed_failed: bool,
+    /// Coarse-space iterations (see `coarse`) of the current increment, and
+    /// of the solver's life (failed attempts included).
+    coarse_in_increment: usize,
+    coarse_total: usize,
     /// Whether the passes run condensed (decided once, on the first pass).
     condensed_choice: Option<bool>,
     /// Dofs of the interface elements' nodes: the only rows of the tangent
@@ -287,6 +292,8 @@ impl<'a> StaticSolver<'a> {
             condensed: None,
             pending: None,
             condensed_failed: false,
+            coarse_in_increment: 0,
+            coarse_total: 0,
             condensed_choice: None,
             rest_row_abs,
             spare_tangents: std::sync::Mutex::new(Vec::new()),

@@ -131,6 +131,15 @@ pub struct SolverOptions {
     /// cheaper than the full passes. The converged answer is the same
     /// either way (to the tolerances); only the cost changes.
     pub condensation: bool,
+    /// With condensed passes: the first pass of an increment that starts
+    /// far from equilibrium (relative residual ≥ 1e-2) is preceded by
+    /// Newton steps in a coarse space of fields smooth along the interface
+    /// (every 8th face node; see the solver's `coarse` module), which move
+    /// an opening front by a coarse segment per step. The converged answer
+    /// is the same either way (to the tolerances); only the path changes.
+    /// The coarse steps are counted apart from the Newton iterations
+    /// ([`IncrementReport::coarse_iterations`]).
+    pub coarse_space: bool,
     /// Inexact passes under frozen friction limits: a Newton pass that an
     /// outer update will follow may stop once its residual is below this ×
     /// the residual it started from, statuses still changing (points near
@@ -159,6 +168,7 @@ impl Default for SolverOptions {
             front_prediction: true,
             slip_damping: true,
             condensation: true,
+            coarse_space: true,
             pass_forcing: PASS_FORCING,
         }
     }
@@ -185,6 +195,10 @@ pub struct IncrementReport {
     pub cutbacks: Vec<String>,
     /// Newton iterations of those failed attempts (not in `iterations`).
     pub failed_iterations: usize,
+    /// Newton steps in the coarse interface space before the increment's
+    /// first pass (condensed passes; see [`SolverOptions::coarse_space`]),
+    /// not in `iterations`.
+    pub coarse_iterations: usize,
     /// The increment was solved by the coupled Mohr–Coulomb Newton (the
     /// slip limit a function of the current pressure, non-symmetric
     /// tangent) after the outer loop of the frozen limits stalled.
