@@ -13,6 +13,7 @@
 //! ```
 
 use serde_json::Value;
+use tecon_cli::builtin::InterfaceKind;
 use tecon_cli::vessel::{VesselOptions, analyse, summary, write_outputs};
 use tecon_elastic::InterfaceNormals;
 use tecon_mesh::VesselMeshSpec;
@@ -530,6 +531,47 @@ fn mu_2_contact_pressure(mesh: VesselMeshSpec, name: &str) -> f64 {
 fn mu_2_converges_on_t1e5() {
     let p = mu_2_contact_pressure(VesselMeshSpec::with_triangles(100_000).unwrap(), "t1e5");
     assert!(((p - 35256.75) / 35256.75).abs() < 1e-4, "p = {p}");
+}
+
+/// Issue #12: the most Newton iterations in one increment on level 2
+/// (2 176 linear triangles, 276 interface dofs) and on `t1e5` (99 144,
+/// 1 840 interface dofs) differ by at most 5, frictionless and at μ = 0.3,
+/// the default joint. Both condense their passes onto the interface, and
+/// both get there through the coarse interface space before the first
+/// pass of an increment that has no friction limit yet (counted apart:
+/// `newton.coarse_iterations`), without which they took 13 / 26 and
+/// 30 / 42. Measured: level 2 12 / 18, `t1e5` 14 / 21, after at most 12
+/// and 30 coarse steps. (At μ = 1 and 2 the outer loop of the frozen
+/// friction limits sets the counts, and they still differ: README,
+/// "Known limits".)
+#[test]
+fn level_2_and_t1e5_take_as_many_newton_iterations() {
+    for (interface, friction) in [
+        (InterfaceKind::Frictionless, 0.0),
+        (InterfaceKind::Frictional, 0.3),
+    ] {
+        let go = |mesh: VesselMeshSpec| {
+            let o = VesselOptions {
+                mesh,
+                interface,
+                friction,
+                quiet: true,
+                ..Default::default()
+            };
+            summary(&analyse(&o).expect("vessel run"))
+        };
+        let coarse = go(VesselMeshSpec::refined(2).unwrap());
+        let fine = go(VesselMeshSpec::with_triangles(100_000).unwrap());
+        let (a, b) = (
+            f(&coarse, "/newton/max_iterations_per_increment"),
+            f(&fine, "/newton/max_iterations_per_increment"),
+        );
+        let steps = f(&fine, "/newton/max_coarse_iterations_per_increment");
+        eprintln!("{interface:?} μ = {friction}: level 2 {a}, t1e5 {b} (+{steps} coarse steps)");
+        assert!(steps > 0.0, "t1e5 took no coarse steps");
+        assert!((a - b).abs() <= 5.0, "level 2 {a} against t1e5 {b}");
+        assert!(b <= 40.0, "t1e5: {b} in one increment");
+    }
 }
 
 /// Issue #12: Newton passes condensed onto the interface dofs (the bulk

@@ -247,10 +247,10 @@ fn condensed_passes_agree_with_full_passes() {
 /// is heated by 50 K except in a band by θ = 0 cooled by 50 K: there it
 /// lifts off the outer ring, and the first pass from the unloaded state
 /// must open the band's points (160 of 512). Measured: frictionless
-/// 13 → 9 fine iterations in the first pass, after 13 coarse steps (132
-/// coarse dofs against 1 028 interface dofs), the answers within 1.4e-9;
-/// μ = 0.3 10 → 7, within 1.4e-6 of the largest pressure (the friction
-/// path).
+/// 13 → 5 fine iterations in the first pass, after 12 coarse steps (260
+/// coarse dofs, every 4th face node, against 1 028 interface dofs), the
+/// answers within 1.4e-9; μ = 0.3 10 → 5, within 1.2e-6 of the largest
+/// pressure (the friction path).
 #[test]
 fn the_coarse_space_opens_a_lift_off_in_fewer_fine_iterations() {
     let mesh = two_rings(16, 256);

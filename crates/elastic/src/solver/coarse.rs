@@ -11,7 +11,7 @@
 //! concentrate like that: in a space of such fields the front moves by a
 //! coarse segment per step.
 //!
-//! What: every [`SPACING`]-th node along each face of an interface (the
+//! What: every k-th node along each face of an interface (the
 //! corners of the elements at the same stations on both faces, so that a
 //! closed zone of the coarse field is a closed zone of the fine one) is a
 //! coarse node with two dofs, the normal and the tangential displacement
@@ -27,11 +27,17 @@
 //! Pᵀ (S + K_c) P with S the bulk's Schur complement, gradient Pᵀ r, and
 //! the exact energy line search of the pass along P dc (see
 //! `condensed`). Its Newton steps are solved densely (the coarse system
-//! has about a sixteenth of the interface dofs per side pair), and they
+//! has at most [`MAX_COARSE_DOFS`] dofs: k is the smallest power of two
+//! that keeps it there), and they
 //! stop once Pᵀ r has fallen by [`COARSE_TOLERANCE`], or no status changed
 //! in a step, or after [`COARSE_MAX_ITERATIONS`]; the fine pass then goes
 //! on from there with its own convergence test, so the answer is the fine
-//! one (only the path changes).
+//! one (only the path changes). Only passes without any frozen slip limit
+//! above zero take coarse steps (frictionless joints, and a frictional
+//! joint's first increment from the unloaded state): with stick zones in
+//! place, the smooth coarse field undoes them, and the high-friction
+//! counts got worse (level 4 at μ = 1: 69 iterations in one increment
+//! instead of 54).
 
 use std::collections::BTreeMap;
 
@@ -41,12 +47,27 @@ use tecon_mesh::Point;
 
 use crate::model::ModelInterface;
 
-/// Fine nodes per coarse segment along an interface face (8 elements of
-/// order 1, 4 of order 2). Measured on `t1e5`, frictionless, the first
-/// output time (30 fine iterations without): every 4th, 8th and 16th node
-/// 21, 19 and 25 fine iterations with the coarse iteration stopped at
-/// 1e-2; every 8th, stopped at 1e-3, 12.
-pub(super) const SPACING: usize = 8;
+/// Most coarse dofs: the coarse nodes are every 2nd, 4th, 8th, ... face
+/// node, the first spacing that keeps the coarse system this small (its
+/// dense Cholesky factorisation, made at every coarse step, then costs a
+/// few milliseconds). Measured (most Newton iterations in one increment,
+/// frictionless / μ = 0.3, without coarse steps 13 / 26 on level 2,
+/// 22 / 30 on level 3, 30 / 30 on level 4, 30 / 42 on `t1e5`): every 2nd
+/// node 11 / 18, 11 / 18, 15 / 21 and (not definite in round-off before
+/// the diagonal shift) –; every 4th 18 / 24, 16 / 20, 20 / 28, 14 / 18;
+/// every 8th 21 / 29, 20 / 26, 18 / 24, 15 / 25; every 16th on level 4
+/// and `t1e5` 25 / 29 and 24 / 30. The finest spacing does best where
+/// it is affordable; this cap gives every 2nd node on levels 2 and 3 and
+/// every 4th on level 4 and `t1e5`.
+pub(super) const MAX_COARSE_DOFS: usize = 512;
+
+/// Shift of the coarse system's diagonal, relative to the largest diagonal
+/// entry of the bulk's coarse system Pᵀ S_b P, when it is not definite in
+/// round-off without: Pᵀ (S + K_c) P is a difference of large numbers
+/// (S = A_ΓΓ − C). (Relative to the largest entry of Pᵀ (S + K_c) P,
+/// which the joint's penalty sets, the shift slowed the coarse steps on
+/// `t1e5` to their limit of 30.)
+const COARSE_SHIFT: f64 = 1e-8;
 
 /// The coarse iteration stops once ‖Pᵀ r‖ is this fraction of its start.
 pub(super) const COARSE_TOLERANCE: f64 = 1e-3;
@@ -101,6 +122,7 @@ pub(super) fn interpolation(
     coords: &[Point],
     gamma: &[usize],
     fixed: &[bool],
+    spacing: usize,
 ) -> Option<(Rows, usize)> {
     // fine node → (coarse node, weight) entries and the face tangent there
     let mut rule = NodeRules::new();
@@ -140,7 +162,7 @@ pub(super) fn interpolation(
                 }
             }
             for nodes in &seq {
-                coarse_nodes = face_rule(nodes, cycle, coords, coarse_nodes, &mut rule);
+                coarse_nodes = face_rule(nodes, cycle, coords, spacing, coarse_nodes, &mut rule);
             }
         }
     }
@@ -224,6 +246,7 @@ fn face_rule(
     nodes: &[usize],
     cycle: bool,
     coords: &[Point],
+    spacing: usize,
     first: usize,
     rule: &mut NodeRules,
 ) -> usize {
@@ -235,8 +258,8 @@ fn face_rule(
     for i in 1..=n {
         s[i] = s[i - 1] + dist(at(i - 1), at(i));
     }
-    // coarse positions: every SPACING-th node, and the last of an open face
-    let mut coarse: Vec<usize> = (0..n).step_by(SPACING).collect();
+    // coarse positions: every `spacing`-th node, and the last of an open face
+    let mut coarse: Vec<usize> = (0..n).step_by(spacing.max(1)).collect();
     if !cycle && coarse.last() != Some(&(n - 1)) {
         coarse.push(n - 1);
     }
@@ -290,6 +313,8 @@ pub(super) struct CoarseSpace {
     ptcp: Vec<f64>,
     /// S_b P, m × mc column-major.
     sbp: Vec<f64>,
+    /// [`COARSE_SHIFT`] × the largest diagonal entry of Pᵀ S_b P.
+    shift: f64,
 }
 
 impl CoarseSpace {
@@ -305,7 +330,12 @@ impl CoarseSpace {
     ) -> Option<Self> {
         let gamma = chol.gamma();
         let m = gamma.len();
-        let (rows, mc) = interpolation(interfaces, coords, gamma, fixed)?;
+        // the finest spacing within the size cap
+        let (rows, mc) = (1..=16)
+            .map(|e| interpolation(interfaces, coords, gamma, fixed, 1 << e))
+            .take_while(Option::is_some)
+            .flatten()
+            .find(|(_, mc)| *mc <= MAX_COARSE_DOFS)?;
         let c = chol.coupling_matrix();
         // S_b P = A_ΓΓ P − C P, column by column
         let mut sbp = vec![0.0; m * mc];
@@ -322,6 +352,7 @@ impl CoarseSpace {
             mc,
             ptcp: Vec::new(),
             sbp,
+            shift: 0.0,
         };
         // Pᵀ C P = −Pᵀ (the C P part of S_b P, before A_ΓΓ P is added)
         let mut ptcp = vec![0.0; mc * mc];
@@ -344,6 +375,24 @@ impl CoarseSpace {
             }
         }
         space.ptcp = ptcp;
+        space.shift = COARSE_SHIFT
+            * (0..mc)
+                .map(|j| {
+                    let col = &space.sbp[j * m..(j + 1) * m];
+                    space
+                        .rows
+                        .iter()
+                        .zip(col)
+                        .map(|(row, x)| {
+                            row.iter()
+                                .filter(|e| e.0 == j)
+                                .map(|e| e.1 * x)
+                                .sum::<f64>()
+                        })
+                        .sum::<f64>()
+                        .abs()
+                })
+                .fold(0.0, f64::max);
         Some(space)
     }
 
@@ -405,7 +454,15 @@ impl CoarseSpace {
                 }
             }
         }
-        let chol = DMatrix::from_column_slice(mc, mc, &h).cholesky()?;
+        let chol = match DMatrix::from_column_slice(mc, mc, &h).cholesky() {
+            Some(c) => c,
+            None => {
+                for i in 0..mc {
+                    h[i * mc + i] += self.shift;
+                }
+                DMatrix::from_column_slice(mc, mc, &h).cholesky()?
+            }
+        };
         Some(chol.solve(&DVector::from_vec(b)).as_slice().to_vec())
     }
 }
@@ -448,7 +505,7 @@ mod tests {
         let (faces, coords) = arc(n, 1.2, |e| e % 3 == 1);
         let gamma = all_dofs(2 * (n + 1));
         let fixed = vec![false; gamma.len()];
-        let (rows, mc) = interpolation(&[faces], &coords, &gamma, &fixed).unwrap();
+        let (rows, mc) = interpolation(&[faces], &coords, &gamma, &fixed, 8).unwrap();
         // 41 nodes per face: coarse at 0, 8, ..., 40 → 6 per face, 2 dofs each
         assert_eq!(mc, 2 * 2 * 6);
         let space = CoarseSpace {
@@ -456,6 +513,7 @@ mod tests {
             mc,
             ptcp: Vec::new(),
             sbp: Vec::new(),
+            shift: 0.0,
         };
         // every coarse tangential dof 1 (per face, the same direction of
         // travel on both faces), normal 0: a tangential field of unit
@@ -509,20 +567,26 @@ mod tests {
         let gamma = all_dofs(2 * (n + 1));
         let mut fixed = vec![false; gamma.len()];
         fixed[0] = true;
-        let (rows, _) = interpolation(&[faces.clone()], &coords, &gamma, &fixed).unwrap();
+        let (rows, _) = interpolation(&[faces.clone()], &coords, &gamma, &fixed, 8).unwrap();
         assert!(rows[0].is_empty() && !rows[1].is_empty());
         // a Γ node on no face
         assert!(
-            interpolation(&[faces.clone()], &coords, &all_dofs(2 * (n + 1) + 1), &{
-                let mut f = fixed.clone();
-                f.extend([false, false]);
-                f
-            })
+            interpolation(
+                &[faces.clone()],
+                &coords,
+                &all_dofs(2 * (n + 1) + 1),
+                &{
+                    let mut f = fixed.clone();
+                    f.extend([false, false]);
+                    f
+                },
+                8
+            )
             .is_none()
         );
         // a third element at node 5 of the bottom face: no chain
         faces.push((vec![5, 0], vec![30, 31]));
-        assert!(interpolation(&[faces], &coords, &gamma, &fixed).is_none());
+        assert!(interpolation(&[faces], &coords, &gamma, &fixed, 8).is_none());
     }
 
     #[test]
@@ -553,7 +617,7 @@ mod tests {
             .filter(|d| d / 2 != n && d / 2 != 2 * n + 1)
             .collect();
         let fixed = vec![false; gamma.len()];
-        let (rows, mc) = interpolation(&[faces], &coords, &gamma, &fixed).unwrap();
+        let (rows, mc) = interpolation(&[faces], &coords, &gamma, &fixed, 8).unwrap();
         // 32 nodes per face, coarse every 8th: 4 per face
         assert_eq!(mc, 2 * 2 * 4);
         // the node before the wrap interpolates the last and the first

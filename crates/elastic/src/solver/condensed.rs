@@ -433,7 +433,12 @@ impl StaticSolver<'_> {
                 })
                 .collect()
         };
-        if first && let Some(space) = cx.coarse.take() {
+        // (with frozen slip limits in place the smooth coarse field undoes
+        // the stick zones: see `coarse`)
+        if first
+            && self.without_slip_limits(committed)
+            && let Some(space) = cx.coarse.take()
+        {
             // far from the new equilibrium: the coarse iteration first
             let (fcg, _) = self.gamma_force(cx, &uf, committed, &mut fc, false)?;
             let r_g = residual(&s_delta, &fcg, &cx.fixed);

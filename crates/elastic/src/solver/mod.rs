@@ -452,6 +452,21 @@ impl<'a> StaticSolver<'a> {
         })
     }
 
+    /// No point of `committed` has a frozen slip limit above zero (no
+    /// cohesion, and no friction pressure recorded yet): the frictional
+    /// pass is the frictionless problem, as in the first increment from an
+    /// unloaded state.
+    fn without_slip_limits(&self, committed: &[PointStates]) -> bool {
+        self.laws.iter().zip(committed).all(|(l, s)| match l {
+            Joint::Frictional(j) => {
+                j.cohesion() == 0.0
+                    && (j.tan_phi() == 0.0
+                        || s.as_slice().iter().all(|p| p.friction_pressure == 0.0))
+            }
+            _ => true,
+        })
+    }
+
     fn check_modes(&mut self, kt: &CsrMatrix) -> Result<(), ElasticError> {
         match check_rigid_modes(kt, &self.modes) {
             Ok(()) => {

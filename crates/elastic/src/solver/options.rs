@@ -132,11 +132,14 @@ pub struct SolverOptions {
     /// either way (to the tolerances); only the cost changes.
     pub condensation: bool,
     /// With condensed passes: the first pass of an increment that starts
-    /// far from equilibrium (relative residual ≥ 1e-2) is preceded by
+    /// far from equilibrium (relative residual ≥ 1e-2), with no frozen
+    /// slip limit above zero (frictionless joints, or a frictional joint's
+    /// first increment from the unloaded state), is preceded by
     /// Newton steps in a coarse space of fields smooth along the interface
-    /// (every 8th face node; see the solver's `coarse` module), which move
-    /// an opening front by a coarse segment per step. The converged answer
-    /// is the same either way (to the tolerances); only the path changes.
+    /// (every 2nd, 4th, … face node; see the solver's `coarse` module),
+    /// which move an opening front by a coarse segment per step. The
+    /// converged answer is the same either way (to the tolerances); only
+    /// the path changes.
     /// The coarse steps are counted apart from the Newton iterations
     /// ([`IncrementReport::coarse_iterations`]).
     pub coarse_space: bool,
