@@ -38,6 +38,52 @@ fn two_rings(rows: usize, segments: usize) -> Mesh {
     .unwrap()
 }
 
+/// Temperature changes of the inner ring's triangles, `f` of the polar
+/// angle of each centroid (0 in the outer ring).
+fn inner_by_angle(mesh: &Mesh, f: impl Fn(f64) -> f64) -> Vec<f64> {
+    let inner = mesh.region_index("inner").unwrap();
+    let nodes = mesh.nodes();
+    mesh.triangles()
+        .iter()
+        .zip(mesh.element_regions())
+        .map(|(t, &r)| {
+            if r != inner {
+                return 0.0;
+            }
+            let (x, y) = t.iter().fold((0.0, 0.0), |(x, y), &n| {
+                (x + nodes[n][0] / 3.0, y + nodes[n][1] / 3.0)
+            });
+            f(y.atan2(x))
+        })
+        .collect()
+}
+
+/// The contact pressure of every interface point.
+fn pressures(solver: &StaticSolver) -> Vec<f64> {
+    solver
+        .interface_results()
+        .iter()
+        .map(|p| -p.traction[1])
+        .collect()
+}
+
+/// How many interface points have `status`.
+fn with_status(solver: &StaticSolver, status: tecon_contact::ContactStatus) -> usize {
+    solver
+        .interface_results()
+        .iter()
+        .filter(|p| p.status == status)
+        .count()
+}
+
+/// max |aᵢ − bᵢ|.
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
 fn heated_inner(mesh: &Mesh) -> Loads {
     let inner = mesh.region_index("inner").unwrap();
     Loads {
@@ -168,22 +214,7 @@ fn condensed_passes_agree_with_full_passes() {
     let model = common::steel_sector(&mesh)
         .interface("inner_outer", Joint::Frictional(law))
         .unwrap();
-    let inner = mesh.region_index("inner").unwrap();
-    let nodes = mesh.nodes();
-    let delta_t: Vec<f64> = mesh
-        .triangles()
-        .iter()
-        .zip(mesh.element_regions())
-        .map(|(t, &r)| {
-            if r != inner {
-                return 0.0;
-            }
-            let (x, y) = t.iter().fold((0.0, 0.0), |(x, y), &n| {
-                (x + nodes[n][0] / 3.0, y + nodes[n][1] / 3.0)
-            });
-            10.0 + 40.0 * (y.atan2(x) / (PI / 2.0))
-        })
-        .collect();
+    let delta_t = inner_by_angle(&mesh, |theta| 10.0 + 40.0 * (theta / (PI / 2.0)));
     let loads = Loads {
         delta_t,
         ..Loads::zero()
@@ -196,16 +227,8 @@ fn condensed_passes_agree_with_full_passes() {
         let mut solver = StaticSolver::new(&model, opts).unwrap();
         let reports = solver.advance(&loads).unwrap();
         let passes: usize = reports.iter().map(|r| r.passes.len()).sum();
-        let p: Vec<f64> = solver
-            .interface_results()
-            .iter()
-            .map(|p| -p.traction[1])
-            .collect();
-        let slips = solver
-            .interface_results()
-            .iter()
-            .filter(|p| p.status == tecon_contact::ContactStatus::Slip)
-            .count();
+        let p = pressures(&solver);
+        let slips = with_status(&solver, tecon_contact::ContactStatus::Slip);
         (
             solver.displacement().to_vec(),
             p,
@@ -221,18 +244,12 @@ fn condensed_passes_agree_with_full_passes() {
         passes >= 3 && slips > 0,
         "{passes} passes, {slips} slipping"
     );
-    let du = u_c
-        .iter()
-        .zip(&u_f)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let (du, dp) = (
+        largest_difference(&u_c, &u_f),
+        largest_difference(&p_c, &p_f),
+    );
     let umax = u_f.iter().map(|a| a.abs()).fold(0.0, f64::max);
     let pmax = p_f.iter().copied().fold(0.0, f64::max);
-    let dp = p_c
-        .iter()
-        .zip(&p_f)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
     eprintln!(
         "{passes} passes, {slips} slipping; |du| {:.2e} of |u|, |dp| {:.2e} of p",
         du / umax,
@@ -254,22 +271,7 @@ fn condensed_passes_agree_with_full_passes() {
 #[test]
 fn the_coarse_space_opens_a_lift_off_in_fewer_fine_iterations() {
     let mesh = two_rings(16, 256);
-    let inner = mesh.region_index("inner").unwrap();
-    let nodes = mesh.nodes();
-    let delta_t: Vec<f64> = mesh
-        .triangles()
-        .iter()
-        .zip(mesh.element_regions())
-        .map(|(t, &r)| {
-            if r != inner {
-                return 0.0;
-            }
-            let (x, y) = t.iter().fold((0.0, 0.0), |(x, y), &n| {
-                (x + nodes[n][0] / 3.0, y + nodes[n][1] / 3.0)
-            });
-            if y.atan2(x) < 0.7 { -50.0 } else { 50.0 }
-        })
-        .collect();
+    let delta_t = inner_by_angle(&mesh, |theta| if theta < 0.7 { -50.0 } else { 50.0 });
     let loads = Loads {
         delta_t,
         ..Loads::zero()
@@ -294,16 +296,8 @@ fn the_coarse_space_opens_a_lift_off_in_fewer_fine_iterations() {
             let first = reports[0].passes[0].len();
             let coarse: usize = reports.iter().map(|r| r.coarse_iterations).sum();
             assert_eq!(coarse, solver.coarse_iterations());
-            let p: Vec<f64> = solver
-                .interface_results()
-                .iter()
-                .map(|p| -p.traction[1])
-                .collect();
-            let open = solver
-                .interface_results()
-                .iter()
-                .filter(|p| p.status == tecon_contact::ContactStatus::Open)
-                .count();
+            let p = pressures(&solver);
+            let open = with_status(&solver, tecon_contact::ContactStatus::Open);
             (
                 solver.displacement().to_vec(),
                 p,
@@ -328,16 +322,10 @@ fn the_coarse_space_opens_a_lift_off_in_fewer_fine_iterations() {
         );
         let umax = u_f.iter().map(|a| a.abs()).fold(0.0, f64::max);
         let pmax = p_f.iter().copied().fold(0.0, f64::max);
-        let du = u_c
-            .iter()
-            .zip(&u_f)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        let dp = p_c
-            .iter()
-            .zip(&p_f)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let (du, dp) = (
+            largest_difference(&u_c, &u_f),
+            largest_difference(&p_c, &p_f),
+        );
         eprintln!(
             "  |du| {:.2e} of |u|, |dp| {:.2e} of p",
             du / umax,
