@@ -375,24 +375,14 @@ impl CoarseSpace {
             }
         }
         space.ptcp = ptcp;
-        space.shift = COARSE_SHIFT
-            * (0..mc)
-                .map(|j| {
-                    let col = &space.sbp[j * m..(j + 1) * m];
-                    space
-                        .rows
-                        .iter()
-                        .zip(col)
-                        .map(|(row, x)| {
-                            row.iter()
-                                .filter(|e| e.0 == j)
-                                .map(|e| e.1 * x)
-                                .sum::<f64>()
-                        })
-                        .sum::<f64>()
-                        .abs()
-                })
-                .fold(0.0, f64::max);
+        // the diagonal of Pᵀ S_b P, one pass over P's entries
+        let mut diag = vec![0.0; mc];
+        for (a, row) in space.rows.iter().enumerate() {
+            for &(j, w) in row {
+                diag[j] += w * space.sbp[j * m + a];
+            }
+        }
+        space.shift = COARSE_SHIFT * diag.iter().map(|d| d.abs()).fold(0.0, f64::max);
         Some(space)
     }
 
