@@ -118,6 +118,9 @@ pub struct VesselOptions {
     /// The coarse interface space before the first pass of an increment,
     /// with condensed passes (false: off).
     pub coarse_space: bool,
+    /// The coupled tail of the outer loop under frozen friction limits
+    /// (false: frozen passes to the end).
+    pub coupled_tail: bool,
     /// Every Newton pass solved to the full tolerances, also those an
     /// outer update follows (false: inexact passes, see
     /// `tecon_elastic::SolverOptions::pass_forcing`).
@@ -157,6 +160,7 @@ impl Default for VesselOptions {
             augmented_lagrangian: Some(1e-4),
             condensation: true,
             coarse_space: true,
+            coupled_tail: true,
             exact_passes: false,
             pressure: None,
             times: vec![1.0, 10.0, 60.0, 600.0, 3600.0, 72000.0],
@@ -377,6 +381,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             reference_temperature: None,
             condensation: Some(o.condensation),
             coarse_space: Some(o.coarse_space),
+            coupled_tail: Some(o.coupled_tail),
             exact_passes: Some(o.exact_passes),
         },
         output: OutputSection {

@@ -367,6 +367,11 @@ pub struct MechanicalSection {
     /// that starts far from equilibrium (default true; false as a
     /// cross-check: the answers agree to the tolerances).
     pub coarse_space: Option<bool>,
+    /// Under frozen friction limits, once the statuses of two passes in a
+    /// row have settled, the rest of the increment's outer loop in Newton
+    /// passes on the coupled law (default true; false as a cross-check:
+    /// the answers agree to the outer loop's tolerance).
+    pub coupled_tail: Option<bool>,
     /// Every Newton pass solved to the full tolerances, also those an
     /// outer update follows (default false: such passes may stop early,
     /// the last one is exact; true as a cross-check: the answers agree to
@@ -620,6 +625,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     summary["newton_max_coarse_iterations_per_increment"] =
         json!(outcome.newton.max_coarse_per_increment);
     summary["newton_coarse_space_dofs"] = json!(outcome.newton.coarse_dofs);
+    summary["newton_coupled_tail_passes"] = json!(outcome.newton.coupled_tail_passes);
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);
         summary["coupling"]["per_output"] = json!(

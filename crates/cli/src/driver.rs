@@ -286,6 +286,9 @@ pub struct NewtonStats {
     /// Increments solved by the coupled Mohr–Coulomb Newton after the
     /// outer loop of the frozen friction limits stalled.
     pub coupled_increments: usize,
+    /// Newton passes with the coupled law in the tail of an outer loop
+    /// (see `SolverOptions::coupled_tail`).
+    pub coupled_tail_passes: usize,
     /// Newton passes that stopped before the full tolerance because a
     /// friction-limit update followed (inexact passes).
     pub inexact_passes: usize,
@@ -1062,6 +1065,7 @@ impl<'s> Contact<'s> {
         for r in &reports {
             self.newton.failed_iterations += r.failed_iterations;
             self.newton.coupled_increments += usize::from(r.coupled);
+            self.newton.coupled_tail_passes += r.coupled_tail_passes.len();
             self.newton.inexact_passes += r
                 .passes
                 .iter()
@@ -1144,7 +1148,11 @@ fn print_history(time: f64, reports: &[IncrementReport]) {
             eprintln!("  cut back: {c}");
         }
         for (k, pass) in r.passes.iter().enumerate() {
-            eprintln!("  pass {}:", k + 1);
+            if r.coupled_tail_passes.contains(&k) {
+                eprintln!("  pass {} (coupled tail):", k + 1);
+            } else {
+                eprintln!("  pass {}:", k + 1);
+            }
             for h in pass {
                 eprintln!("    {h}");
             }

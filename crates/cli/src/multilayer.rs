@@ -82,6 +82,9 @@ pub struct MultilayerOptions {
     /// The coarse interface space with condensed passes (see
     /// [`crate::builtin::VesselOptions::coarse_space`]).
     pub coarse_space: bool,
+    /// The coupled tail of the outer loop (see
+    /// [`crate::builtin::VesselOptions::coupled_tail`]).
+    pub coupled_tail: bool,
     /// Every Newton pass solved to the full tolerances (see
     /// [`crate::builtin::VesselOptions::exact_passes`]).
     pub exact_passes: bool,
@@ -127,6 +130,7 @@ impl MultilayerOptions {
             quiet: false,
             condensation: true,
             coarse_space: true,
+            coupled_tail: true,
             exact_passes: false,
             capacity: crate::case::Capacity::Consistent,
         })
@@ -435,6 +439,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         max_iterations: 150,
         condensation: o.condensation,
         coarse_space: o.coarse_space,
+        coupled_tail: o.coupled_tail,
         pass_forcing: if o.exact_passes {
             0.0
         } else {

@@ -1079,6 +1079,7 @@ pub fn run(
     o.quiet = args.quiet;
     o.condensation = !args.no_condensation;
     o.coarse_space = !args.no_coarse_space;
+    o.coupled_tail = !args.no_coupled_tail;
     o.exact_passes = args.exact_passes;
     o.capacity = crate::case::Capacity::parse(&args.capacity)?;
     if let Some(p) = args.pressure {

@@ -902,6 +902,7 @@ pub fn prepare<'m>(
         max_iterations: 150,
         condensation: mech.condensation.unwrap_or(true),
         coarse_space: mech.coarse_space.unwrap_or(true),
+        coupled_tail: mech.coupled_tail.unwrap_or(true),
         pass_forcing: if mech.exact_passes.unwrap_or(false) {
             0.0
         } else {

@@ -475,6 +475,8 @@ pub fn summary(run: &VesselRun) -> Value {
             "coarse_iterations": run.newton.coarse_iterations,
             "max_coarse_iterations_per_increment": run.newton.max_coarse_per_increment,
             "coarse_space_dofs": run.newton.coarse_dofs,
+            // passes with the coupled law in the tail of an outer loop
+            "coupled_tail_passes": run.newton.coupled_tail_passes,
         },
         "joint": {
             "interface": run.options.interface.name(),
@@ -965,6 +967,11 @@ pub struct VesselArgs {
     /// the tolerances)
     #[arg(long)]
     pub no_coarse_space: bool,
+    /// No coupled tail of the outer loop: frozen friction limits to the
+    /// end of every increment (a cross-check; the answers agree to the
+    /// outer loop's tolerance)
+    #[arg(long)]
+    pub no_coupled_tail: bool,
     /// Every Newton pass solved to the full tolerances, also those a
     /// friction-limit update follows (a cross-check; the answers agree to
     /// the tolerances)
@@ -1117,6 +1124,7 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
         augmented_lagrangian: if args.penalty_only { None } else { Some(1e-4) },
         condensation: !args.no_condensation,
         coarse_space: !args.no_coarse_space,
+        coupled_tail: !args.no_coupled_tail,
         exact_passes: args.exact_passes,
         normals: if args.element_normals {
             InterfaceNormals::Element

@@ -658,7 +658,7 @@ impl StaticSolver<'_> {
         Ok(kt)
     }
 
-    fn add_interfaces_with(
+    pub(super) fn add_interfaces_with(
         &self,
         laws: &[Joint],
         u: &[f64],

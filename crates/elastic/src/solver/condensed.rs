@@ -328,6 +328,19 @@ impl StaticSolver<'_> {
         fc: &mut [f64],
         tangent: bool,
     ) -> Result<(Vec<f64>, Option<Vec<f64>>), ElasticError> {
+        self.gamma_force_with(&self.laws, cx, uf, states, fc, tangent)
+    }
+
+    /// [`StaticSolver::gamma_force`] with the joint laws `laws`.
+    fn gamma_force_with(
+        &self,
+        laws: &[Joint],
+        cx: &mut Condensed,
+        uf: &[f64],
+        states: &[PointStates],
+        fc: &mut [f64],
+        tangent: bool,
+    ) -> Result<(Vec<f64>, Option<Vec<f64>>), ElasticError> {
         let gamma = cx.chol.gamma();
         for &d in gamma {
             fc[d] = 0.0;
@@ -338,7 +351,7 @@ impl StaticSolver<'_> {
             for &k in slot {
                 values[k] = 0.0;
             }
-            self.add_interfaces(uf, states, Some(&mut cx.scratch), fc)?;
+            self.add_interfaces_with(laws, uf, states, Some(&mut cx.scratch), fc)?;
             let values = cx.scratch.values();
             let mut gg = cx.bulk_gg.clone();
             for a in 0..gamma.len() {
@@ -353,7 +366,7 @@ impl StaticSolver<'_> {
             }
             Some(gg)
         } else {
-            self.add_interfaces(uf, states, None, fc)?;
+            self.add_interfaces_with(laws, uf, states, None, fc)?;
             None
         };
         let f: Vec<f64> = gamma.iter().map(|&d| fc[d]).collect();
@@ -390,6 +403,20 @@ impl StaticSolver<'_> {
         let gamma: Vec<usize> = cx.chol.gamma().to_vec();
         let m = gamma.len();
         let mut t = PassTracker::new(norm(f_ext), pass).with_forcing(self.pass_forcing);
+        // The coupled Mohr–Coulomb law (the slip limit follows the current
+        // pressure): its tangent is not symmetric where points slip, and
+        // those steps are solved by GMRES preconditioned with the frozen
+        // limits' tangent at the same statuses (see `gmres`), the
+        // residual line search of the full pass's coupled steps.
+        let coupled = opts.friction_bound == FrictionBound::Coupled && self.has_friction();
+        let frozen_laws: Vec<Joint> = if coupled {
+            self.laws
+                .iter()
+                .map(|j| j.with_friction_bound(FrictionBound::Frozen))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut in_gamma = vec![false; n];
         for &d in &gamma {
             in_gamma[d] = true;
@@ -436,6 +463,7 @@ impl StaticSolver<'_> {
         // (with frozen slip limits in place the smooth coarse field undoes
         // the stick zones: see `coarse`)
         if first
+            && !coupled
             && self.without_slip_limits(committed)
             && let Some(space) = cx.coarse.take()
         {
@@ -508,11 +536,14 @@ impl StaticSolver<'_> {
                     .1
                     .ok_or_else(|| FemError::Solver("tangent missing".into()))?;
             }
+            // (as in the full pass, the predicted branches are tried on
+            // symmetric tangents only)
+            let symmetric = !coupled || obs.counts[2] == 0;
             let predicted = t.predicted_openings(
                 &self.neighbours,
                 &per_element,
                 &obs.status,
-                opts.front_prediction,
+                symmetric && opts.front_prediction,
             );
             let ray = Ray {
                 gamma: &gamma,
@@ -521,7 +552,7 @@ impl StaticSolver<'_> {
                 rb0: &rb0,
                 r: &r_g,
             };
-            let sticks = if opts.front_prediction {
+            let sticks = if symmetric && opts.front_prediction {
                 t.reversed_points(&obs.status)
             } else {
                 Vec::new()
@@ -564,15 +595,64 @@ impl StaticSolver<'_> {
                     {
                         break;
                     }
-                    let mut du = r_g.clone();
-                    let sx = match cx.chol.solve_schur(&gg, &mut du, accept) {
-                        Ok((_, sx)) => sx,
-                        Err(FemError::NotPositiveDefinite { .. }) => return Ok(Outcome::FullPass),
-                        Err(e) => return Err(e.into()),
-                    };
-                    let s_du = Self::bulk_product(cx, &gg, &du, sx);
-                    let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
-                    (du, s_du, step)
+                    if !symmetric {
+                        // the frozen law with its limits at the current
+                        // pressures: the coupled statuses, and the coupled
+                        // tangent less its rank-one friction terms
+                        let mut at_current = committed.to_vec();
+                        self.update_outer(&uf, &mut at_current, (true, false));
+                        let pre = self
+                            .gamma_force_with(&frozen_laws, cx, &uf, &at_current, &mut fc, true)?
+                            .1
+                            .ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+                        let chol = &mut cx.chol;
+                        let solved = {
+                            let chol = std::cell::RefCell::new(chol);
+                            super::gmres::solve(
+                                &r_g,
+                                accept,
+                                |v| Ok(chol.borrow().mul_schur(&gg, v)),
+                                |v| {
+                                    chol.borrow_mut().solve_schur(&pre, v, 0.0)?;
+                                    Ok(())
+                                },
+                            )
+                        };
+                        let du = match solved {
+                            Ok(Some(du)) => du,
+                            Err(ElasticError::Fem(FemError::NotPositiveDefinite { .. })) => {
+                                return Ok(Outcome::FullPass);
+                            }
+                            Err(e) => return Err(e),
+                            // the pass fails, and the frozen passes take
+                            // the increment up again (see `increment`)
+                            Ok(None) => {
+                                return Err(super::tracker::failure(
+                                    format!(
+                                        "GMRES on the coupled tangent did not converge in {} iterations",
+                                        super::gmres::MAX_ITERATIONS
+                                    ),
+                                    t.history,
+                                ));
+                            }
+                        };
+                        let s_du = cx.chol.mul_schur(&cx.bulk_gg, &du);
+                        let step =
+                            self.gamma_residual_line_search(cx, committed, &ray, &du, &s_du)?;
+                        (du, s_du, step)
+                    } else {
+                        let mut du = r_g.clone();
+                        let sx = match cx.chol.solve_schur(&gg, &mut du, accept) {
+                            Ok((_, sx)) => sx,
+                            Err(FemError::NotPositiveDefinite { .. }) => {
+                                return Ok(Outcome::FullPass);
+                            }
+                            Err(e) => return Err(e.into()),
+                        };
+                        let s_du = Self::bulk_product(cx, &gg, &du, sx);
+                        let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
+                        (du, s_du, step)
+                    }
                 }
             };
             for a in 0..m {
@@ -698,10 +778,10 @@ impl StaticSolver<'_> {
     /// it definite for a body held by the interface alone, so a body that
     /// every point lets go of drifts instead of failing the solve.
     fn check_held_at(&self, uf: &[f64], committed: &[PointStates]) -> Result<(), ElasticError> {
-        let mut kt = self.k_bulk.clone();
-        let mut scratch = vec![0.0; uf.len()];
-        self.add_interfaces(uf, committed, Some(&mut kt), &mut scratch)?;
-        self.check_held(kt)
+        // (the frozen limits' tangent: the same as the pass's with frozen
+        // limits; with the coupled law, whose slip tangent is not
+        // symmetric, the one with the same normal stiffness)
+        self.check_held(self.frozen_tangent(uf, committed)?)
     }
 
     /// A condensed pass that failed (status ping-pong, stagnation, no
@@ -820,6 +900,48 @@ impl StaticSolver<'_> {
                 .sum();
             Ok(g)
         })
+    }
+
+    /// Backtracking on the residual along `du` (on Γ), for the coupled
+    /// law's non-symmetric steps (as the full pass's
+    /// [`StaticSolver::residual_line_search`]): the step halved until the
+    /// residual falls, the best of five kept.
+    fn gamma_residual_line_search(
+        &self,
+        cx: &Condensed,
+        committed: &[PointStates],
+        ray: &Ray<'_>,
+        du: &[f64],
+        s_du: &[f64],
+    ) -> Result<f64, ElasticError> {
+        let r0 = norm(ray.r);
+        let mut fc = vec![0.0; ray.uf.len()];
+        let mut trial = ray.uf.to_vec();
+        let mut step = 1.0;
+        let mut best = (f64::INFINITY, 1.0);
+        for _ in 0..5 {
+            for (a, &d) in ray.gamma.iter().enumerate() {
+                trial[d] = ray.uf[d] + step * du[a];
+                fc[d] = 0.0;
+            }
+            self.add_interfaces(&trial, committed, None, &mut fc)?;
+            let rt = (0..ray.gamma.len())
+                .filter(|&a| !cx.fixed[a])
+                .map(|a| {
+                    let r = ray.rb0[a] - ray.s_delta[a] - step * s_du[a] - fc[ray.gamma[a]];
+                    r * r
+                })
+                .sum::<f64>()
+                .sqrt();
+            if rt < best.0 {
+                best = (rt, step);
+            }
+            if rt <= (1.0 - 1e-4 * step) * r0 || r0 == 0.0 {
+                break;
+            }
+            step *= 0.5;
+        }
+        Ok(if best.0.is_finite() { best.1 } else { 1.0 })
     }
 
     /// The bulk part S_b du of a Schur product: `sx` = (S_b + K_c) du less

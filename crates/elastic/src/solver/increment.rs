@@ -3,6 +3,8 @@
 
 use tecon_contact::FrictionBound;
 
+use crate::joint::Joint;
+
 use crate::error::{ElasticError, IterationRecord};
 
 use super::*;
@@ -187,12 +189,49 @@ impl StaticSolver<'_> {
 
     /// One increment: converged displacements, the trial (new committed)
     /// states, the states the last Newton pass started from (the old
-    /// committed ones with updated multipliers), and a report.
+    /// committed ones with updated multipliers), and a report. The laws
+    /// and options a coupled tail changes are restored whatever happens.
     #[allow(clippy::type_complexity)]
     pub(super) fn increment(
         &mut self,
         loads: &Loads,
     ) -> Result<(Vec<f64>, States, States, IncrementReport), ElasticError> {
+        let (laws, options) = (self.laws.clone(), self.options);
+        let result = self.increment_passes(loads);
+        self.laws = laws;
+        self.options = options;
+        self.coupled_tail = false;
+        result
+    }
+
+    /// The coupled law in place of the frozen one for the rest of the
+    /// increment (see [`SolverOptions::coupled_tail`]); returns the frozen
+    /// laws.
+    fn enter_coupled_tail(&mut self) -> Vec<Joint> {
+        let frozen = std::mem::take(&mut self.laws);
+        self.laws = frozen
+            .iter()
+            .map(|j| j.with_friction_bound(FrictionBound::Coupled))
+            .collect();
+        self.options.friction_bound = FrictionBound::Coupled;
+        self.options.max_iterations = self.options.max_iterations.min(COUPLED_TAIL_MAX_ITERATIONS);
+        self.coupled_tail = true;
+        frozen
+    }
+
+    /// The frozen laws back (see [`StaticSolver::enter_coupled_tail`]).
+    fn leave_coupled_tail(&mut self, frozen: Vec<Joint>, options: SolverOptions) {
+        self.laws = frozen;
+        self.options = options;
+        self.coupled_tail = false;
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn increment_passes(
+        &mut self,
+        loads: &Loads,
+    ) -> Result<(Vec<f64>, States, States, IncrementReport), ElasticError> {
+        let options = self.options;
         let f_ext = self.external_force(loads)?;
         let mut committed = self.states.clone();
         let mut total_iterations = 0;
@@ -209,8 +248,15 @@ impl StaticSolver<'_> {
         // outer update), and the outer cut-backs taken so far
         let mut last_start: Option<States> = None;
         let mut outer_cuts = 0;
-        let frozen_friction =
+        let mut frozen_friction =
             self.options.friction_bound == FrictionBound::Frozen && self.has_slip_limits();
+        // the frozen laws while the coupled tail runs, whether it was tried,
+        // and its passes
+        let mut tail: Option<Vec<Joint>> = None;
+        let mut tail_tried = !(frozen_friction && self.options.coupled_tail);
+        let mut tail_passes = Vec::new();
+        // the last converged pass was settled (no failed pass since)
+        let mut previous_settled = false;
         let mut u = self.u.clone();
         // (a condensed pass of an earlier attempt is not continued)
         self.pending = None;
@@ -240,6 +286,24 @@ impl StaticSolver<'_> {
             let (u_new, history) =
                 match self.newton_pass(&f_ext, loads, &committed, u.clone(), pass) {
                     Ok(r) => r,
+                    // A coupled pass that fails: the frozen passes take the
+                    // increment up again from the start of that pass.
+                    Err(ElasticError::NotConverged { history, .. }) if tail.is_some() => {
+                        tail_passes.push(passes.len());
+                        total_iterations += history.len();
+                        max_pass = max_pass.max(history.len());
+                        passes.push(history);
+                        if let Some(frozen) = tail.take() {
+                            self.leave_coupled_tail(frozen, options);
+                        }
+                        if let Some(prev) = &last_start {
+                            committed.clone_from(prev);
+                        }
+                        frozen_friction = true;
+                        exact_next = true;
+                        previous_settled = false;
+                        continue;
+                    }
                     // A pass that fails after an update from an inexact pass
                     // (its statuses not settled; once on g0 at μ = 2, twice
                     // on level 2 at μ = 5): the update is undone and the
@@ -255,6 +319,7 @@ impl StaticSolver<'_> {
                             committed.clone_from(prev);
                         }
                         exact_next = true;
+                        previous_settled = false;
                         continue;
                     }
                     // A pass after an outer update that fails: the update moved
@@ -278,6 +343,7 @@ impl StaticSolver<'_> {
                         }
                         relaxing = true;
                         outer_cuts += 1;
+                        previous_settled = false;
                         continue;
                     }
                     // the failed pass comes with the passes before it
@@ -300,6 +366,9 @@ impl StaticSolver<'_> {
             total_iterations += history.len();
             max_pass = max_pass.max(history.len());
             passes.push(history.clone());
+            if tail.is_some() {
+                tail_passes.push(passes.len() - 1);
+            }
             u = u_new;
             let al = self.options.augmented_lagrangian;
             if al.is_none() && !frozen_friction {
@@ -370,11 +439,28 @@ impl StaticSolver<'_> {
             if relaxing {
                 relax_friction(&start, &mut committed);
             }
+            // A pass solved exactly whose statuses did not change after its
+            // first iterate: the outer updates are linear from here on, and
+            // the coupled passes find their fixed point directly.
+            let settled = !inexact(&history) && history.iter().skip(1).all(|r| r.changed == 0);
+            if !tail_tried && settled && (previous_settled || std::env::var("XONE").is_ok()) {
+                tail = Some(self.enter_coupled_tail());
+                tail_tried = true;
+                frozen_friction = false;
+                exact_next = true;
+            }
+            previous_settled = settled;
             augmentations += 1;
         };
         // the interior of the condensed passes' interface dofs
         self.settle_interior(&mut u)?;
-        let states = self.trial_states(&u, &start);
+        let mut states = self.trial_states(&u, &start);
+        if let Some(frozen) = tail.take() {
+            // the converged pressures become the frozen limits of the next
+            // increment, as after a coupled increment
+            self.leave_coupled_tail(frozen, options);
+            self.update_outer(&u, &mut states, (true, false));
+        }
         Ok((
             u,
             states,
@@ -390,6 +476,7 @@ impl StaticSolver<'_> {
                 history,
                 coarse_iterations: self.coarse_in_increment,
                 coupled: false,
+                coupled_tail_passes: tail_passes,
             },
         ))
     }
@@ -412,6 +499,7 @@ impl StaticSolver<'_> {
         self.options.friction_bound = FrictionBound::Coupled;
         // the condensed passes take symmetric (frozen) tangents only
         self.condensed_choice = Some(false);
+        // (no coupled tail inside: the whole increment is coupled)
         let result = self.increment(loads);
         self.laws = frozen_laws;
         self.options.friction_bound = bound;

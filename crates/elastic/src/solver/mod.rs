@@ -30,6 +30,7 @@ mod assembly;
 mod coarse;
 mod condensed;
 mod front;
+mod gmres;
 mod increment;
 mod line_search;
 mod newton;
@@ -39,7 +40,10 @@ mod staging;
 mod states;
 mod tracker;
 
-pub use options::{IncrementReport, InterfacePointResult, Loads, PASS_FORCING, SolverOptions};
+pub use options::{
+    COUPLED_TAIL_MAX_ITERATIONS, IncrementReport, InterfacePointResult, Loads, PASS_FORCING,
+    SolverOptions,
+};
 pub use recovery::{
     QuadraticStresses, StressField, nodal_displacement, polar, quadratic_stresses, stresses,
     von_mises,
@@ -97,6 +101,9 @@ pub struct StaticSolver<'a> {
     /// of the solver's life (failed attempts included).
     coarse_in_increment: usize,
     coarse_total: usize,
+    /// True while the coupled tail of an increment's outer loop runs (see
+    /// `increment`): its non-symmetric steps are solved by GMRES.
+    coupled_tail: bool,
     /// Whether the passes run condensed (decided once, on the first pass).
     condensed_choice: Option<bool>,
     /// Dofs of the interface elements' nodes: the only rows of the tangent
@@ -294,6 +301,7 @@ impl<'a> StaticSolver<'a> {
             condensed_failed: false,
             coarse_in_increment: 0,
             coarse_total: 0,
+            coupled_tail: false,
             condensed_choice: None,
             rest_row_abs,
             spare_tangents: std::sync::Mutex::new(Vec::new()),

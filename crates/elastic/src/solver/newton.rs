@@ -128,7 +128,19 @@ impl StaticSolver<'_> {
                     {
                         break;
                     }
-                    match self.solve(&kt, &mut du, symmetric, accept) {
+                    let solved = if !symmetric && self.coupled_tail {
+                        // (a failed solve fails the pass, with its history)
+                        self.coupled_tail_solve(&kt, &mut du, (&u, committed), accept)
+                            .map_err(|e| match e {
+                                ElasticError::NotConverged { reason, .. } => {
+                                    failure(reason, t.history.clone())
+                                }
+                                e => e,
+                            })
+                    } else {
+                        self.solve(&kt, &mut du, symmetric, accept)
+                    };
+                    match solved {
                         Err(ElasticError::Fem(FemError::Unconstrained { .. }))
                             if symmetric && self.has_friction() =>
                         {
@@ -194,6 +206,58 @@ impl StaticSolver<'_> {
 }
 
 impl StaticSolver<'_> {
+    /// Solves the coupled law's non-symmetric step `kt du = rhs` (rotated,
+    /// constrained) in the coupled tail of the outer loop by GMRES,
+    /// preconditioned with the sparse Cholesky factor of the frozen limits'
+    /// tangent at the same statuses (the limits set to the current
+    /// pressures at `u`): see `gmres`. A solve that does not converge fails
+    /// the pass (the frozen passes take the increment up again).
+    fn coupled_tail_solve(
+        &mut self,
+        kt: &CsrMatrix,
+        rhs: &mut [f64],
+        (u, committed): (&[f64], &[PointStates]),
+        accept: f64,
+    ) -> Result<(), ElasticError> {
+        let mut at_current = committed.to_vec();
+        self.update_outer(u, &mut at_current, (true, false));
+        let mut pre = self.frozen_tangent(u, &at_current)?;
+        self.rotations.rotate_matrix(&mut pre);
+        let mut zero = vec![0.0; rhs.len()];
+        self.prepared.apply_scaled(&mut pre, &mut zero, 0.0);
+        let chol = match &mut self.cholesky {
+            Some(c) => c,
+            None => self.cholesky.insert(self.tangent_cholesky()?),
+        };
+        let solved = super::gmres::solve(
+            rhs,
+            accept,
+            |v| {
+                let mut out = vec![0.0; v.len()];
+                kt.mul_vec(v, &mut out);
+                Ok(out)
+            },
+            |v| {
+                chol.solve_within(&pre, v, 0.0)?;
+                Ok(())
+            },
+        );
+        match solved {
+            Ok(Some(x)) => {
+                rhs.copy_from_slice(&x);
+                Ok(())
+            }
+            Ok(None) => Err(failure(
+                format!(
+                    "GMRES on the coupled tangent did not converge in {} iterations",
+                    super::gmres::MAX_ITERATIONS
+                ),
+                Vec::new(),
+            )),
+            Err(e) => Err(failure(format!("coupled step: {e}"), Vec::new())),
+        }
+    }
+
     /// Errors with [`ElasticError::Floating`] when the tangent `k` (global
     /// frame, before the constraints) leaves a body free: at a converged
     /// state, one that no closed interface point holds any more.

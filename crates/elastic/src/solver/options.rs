@@ -143,6 +143,20 @@ pub struct SolverOptions {
     /// The coarse steps are counted apart from the Newton iterations
     /// ([`IncrementReport::coarse_iterations`]).
     pub coarse_space: bool,
+    /// The coupled tail of the outer loop under frozen friction limits:
+    /// once a pass solved exactly changes no status after its first
+    /// iterate, the outer updates are in their linear regime, where the
+    /// frozen limits converge by a constant factor per update (about ½ at
+    /// μ = 1). The rest of the increment then takes Newton passes with the
+    /// coupled law (the slip limit follows the current pressure; the
+    /// non-symmetric steps by GMRES preconditioned with the frozen
+    /// tangent), whose fixed point is the same Coulomb solution; only the
+    /// normal multipliers are updated between them. A coupled pass that
+    /// does not converge within [`COUPLED_TAIL_MAX_ITERATIONS`] hands the
+    /// increment back to the frozen passes. The converged answer is the
+    /// same either way (to the outer loop's tolerance); only the path
+    /// changes.
+    pub coupled_tail: bool,
     /// Inexact passes under frozen friction limits: a Newton pass that an
     /// outer update will follow may stop once its residual is below this ×
     /// the residual it started from, statuses still changing (points near
@@ -172,6 +186,7 @@ impl Default for SolverOptions {
             slip_damping: true,
             condensation: true,
             coarse_space: true,
+            coupled_tail: true,
             pass_forcing: PASS_FORCING,
         }
     }
@@ -206,7 +221,16 @@ pub struct IncrementReport {
     /// slip limit a function of the current pressure, non-symmetric
     /// tangent) after the outer loop of the frozen limits stalled.
     pub coupled: bool,
+    /// The passes (indices into `passes`) with the coupled law in the tail
+    /// of the outer loop (see [`SolverOptions::coupled_tail`]), a failed
+    /// one included.
+    pub coupled_tail_passes: Vec<usize>,
 }
+
+/// Most Newton iterations of one pass in the coupled tail of the outer
+/// loop (see [`SolverOptions::coupled_tail`]): one that needs more hands
+/// the increment back to the frozen passes.
+pub const COUPLED_TAIL_MAX_ITERATIONS: usize = 20;
 
 /// Output of one interface integration point.
 #[derive(Debug, Clone, Copy, PartialEq)]
