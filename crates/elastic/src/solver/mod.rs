@@ -12,7 +12,10 @@
 //! repeat, with the limits set to the new pressures, until they settle: the
 //! fixed point is the Mohr–Coulomb solution. The coupled alternative
 //! ([`FrictionBound::Coupled`]) is one Newton pass on the non-symmetric
-//! tangent (LU) with backtracking on ‖R‖.
+//! tangent with backtracking on ‖R‖: the fallback for an outer loop that
+//! stalls (sparse LU), and the tail of every outer loop once the frozen
+//! passes' statuses settle (GMRES preconditioned with the frozen tangent;
+//! [`SolverOptions::coupled_tail`]).
 //!
 //! Rhythm per increment (deal.II step-42 style): the predictor is the
 //! first Newton iterate from the last converged state; an increment has
@@ -23,7 +26,8 @@
 //! Files: [`options`] (loads, settings, reports), `assembly` (bulk and
 //! interface element loops, residual), `increment` (load increments,
 //! cut-back, outer multiplier / friction-limit passes), `newton` (one
-//! Newton pass), `front` (opening-front prediction), `line_search`,
+//! Newton pass), `front` (opening-front prediction), `gmres` (the
+//! coupled tail's non-symmetric steps), `line_search`,
 //! `recovery` (stresses).
 
 mod assembly;
