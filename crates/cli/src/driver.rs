@@ -1125,7 +1125,7 @@ pub fn interface_point_weights(model: &tecon_elastic::ElasticModel<'_>) -> Vec<f
 }
 
 /// The Newton history of the increments of one contact solve, on stderr.
-fn print_history(time: f64, reports: &[IncrementReport]) {
+pub(crate) fn print_history(time: f64, reports: &[IncrementReport]) {
     for r in reports {
         eprintln!(
             "{}, load fraction {:.3}: {} Newton iterations in {} passes{}, {} multiplier updates{}:",

@@ -76,6 +76,9 @@ pub struct MultilayerOptions {
     pub pressure: Option<f64>,
     /// No progress output.
     pub quiet: bool,
+    /// Print the Newton history of every increment (as `tecon vessel
+    /// --verbose` does for the monolayer), with the stage before it.
+    pub verbose: bool,
     /// Newton passes condensed onto the interface dofs where cheaper
     /// (false: full passes always).
     pub condensation: bool,
@@ -128,6 +131,7 @@ impl MultilayerOptions {
             weld_temperatures: None,
             pressure: None,
             quiet: false,
+            verbose: false,
             condensation: true,
             coarse_space: true,
             coupled_tail: true,
@@ -524,6 +528,10 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
                     ..Loads::mechanical()
                 })
                 .map_err(|e| format!("stage {k}: contact at t = {} s: {e}", times[i]))?;
+            if o.verbose {
+                eprintln!("stage {k}:");
+                crate::driver::print_history(times[i], &reports);
+            }
             newton += reports.iter().map(|r| r.iterations).sum::<usize>();
             let mut t_full = vec![f64::NAN; mesh.n_nodes()];
             t_full[..t_nodal.len()].copy_from_slice(t_nodal);
@@ -594,6 +602,10 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
                 ..Loads::mechanical()
             })
             .map_err(|e| format!("pressure stage: contact: {e}"))?;
+        if o.verbose {
+            eprintln!("pressure stage:");
+            crate::driver::print_history(last.state.time, &reports);
+        }
         let newton = reports.iter().map(|r| r.iterations).sum::<usize>();
         let state = State {
             time: last.state.time,

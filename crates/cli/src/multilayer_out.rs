@@ -1077,6 +1077,7 @@ pub fn run(
     }
     o.times = args.times.clone();
     o.quiet = args.quiet;
+    o.verbose = args.verbose;
     o.condensation = !args.no_condensation;
     o.coarse_space = !args.no_coarse_space;
     o.coupled_tail = !args.no_coupled_tail;
