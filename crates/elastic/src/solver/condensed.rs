@@ -34,7 +34,7 @@ use tecon_fem::{CondensedCholesky, FemError};
 use crate::error::{ElasticError, IterationRecord};
 
 use super::coarse::{COARSE_GATE, COARSE_MAX_ITERATIONS, COARSE_TOLERANCE, CoarseSpace};
-use super::line_search::root_along_ray;
+use super::line_search::{backtrack, root_along_ray};
 use super::newton::ROUND_OFF_FACTOR;
 use super::tracker::PassTracker;
 use super::*;
@@ -882,30 +882,17 @@ impl StaticSolver<'_> {
         du: &[f64],
         s_du: &[f64],
     ) -> Result<f64, ElasticError> {
-        let mut fc = vec![0.0; ray.uf.len()];
-        let mut trial = ray.uf.to_vec();
+        let mut along = RayResidual::new(ray);
         let g0 = -dot(ray.r, du);
         root_along_ray(g0, |alpha| {
-            for (a, &d) in ray.gamma.iter().enumerate() {
-                trial[d] = ray.uf[d] + alpha * du[a];
-                fc[d] = 0.0;
-            }
-            self.add_interfaces(&trial, committed, None, &mut fc)?;
-            let g: f64 = (0..ray.gamma.len())
-                .filter(|&a| !cx.fixed[a])
-                .map(|a| {
-                    let r = ray.rb0[a] - ray.s_delta[a] - alpha * s_du[a] - fc[ray.gamma[a]];
-                    -r * du[a]
-                })
-                .sum();
-            Ok(g)
+            let r = along.at(self, cx, committed, (du, s_du), alpha)?;
+            Ok(-dot(&r, du))
         })
     }
 
     /// Backtracking on the residual along `du` (on Γ), for the coupled
     /// law's non-symmetric steps (as the full pass's
-    /// [`StaticSolver::residual_line_search`]): the step halved until the
-    /// residual falls, the best of five kept.
+    /// [`StaticSolver::residual_line_search`]).
     fn gamma_residual_line_search(
         &self,
         cx: &Condensed,
@@ -914,34 +901,10 @@ impl StaticSolver<'_> {
         du: &[f64],
         s_du: &[f64],
     ) -> Result<f64, ElasticError> {
-        let r0 = norm(ray.r);
-        let mut fc = vec![0.0; ray.uf.len()];
-        let mut trial = ray.uf.to_vec();
-        let mut step = 1.0;
-        let mut best = (f64::INFINITY, 1.0);
-        for _ in 0..5 {
-            for (a, &d) in ray.gamma.iter().enumerate() {
-                trial[d] = ray.uf[d] + step * du[a];
-                fc[d] = 0.0;
-            }
-            self.add_interfaces(&trial, committed, None, &mut fc)?;
-            let rt = (0..ray.gamma.len())
-                .filter(|&a| !cx.fixed[a])
-                .map(|a| {
-                    let r = ray.rb0[a] - ray.s_delta[a] - step * s_du[a] - fc[ray.gamma[a]];
-                    r * r
-                })
-                .sum::<f64>()
-                .sqrt();
-            if rt < best.0 {
-                best = (rt, step);
-            }
-            if rt <= (1.0 - 1e-4 * step) * r0 || r0 == 0.0 {
-                break;
-            }
-            step *= 0.5;
-        }
-        Ok(if best.0.is_finite() { best.1 } else { 1.0 })
+        let mut along = RayResidual::new(ray);
+        backtrack(norm(ray.r), |step| {
+            Ok(norm(&along.at(self, cx, committed, (du, s_du), step)?))
+        })
     }
 
     /// The bulk part S_b du of a Schur product: `sx` = (S_b + K_c) du less
@@ -966,6 +929,50 @@ struct CoarseRay<'a> {
     gamma: &'a [usize],
     start: &'a [f64],
     rb0: &'a [f64],
+}
+
+/// The bulk residual on Γ along a [`Ray`] (zero at constrained
+/// positions), with its scratch vectors.
+struct RayResidual<'r, 'a> {
+    ray: &'r Ray<'a>,
+    trial: Vec<f64>,
+    fc: Vec<f64>,
+}
+
+impl<'r, 'a> RayResidual<'r, 'a> {
+    fn new(ray: &'r Ray<'a>) -> Self {
+        RayResidual {
+            ray,
+            trial: ray.uf.to_vec(),
+            fc: vec![0.0; ray.uf.len()],
+        }
+    }
+
+    /// `r_b − S δ − α S du − f_c(u + α du)` on Γ.
+    fn at(
+        &mut self,
+        solver: &StaticSolver<'_>,
+        cx: &Condensed,
+        committed: &[PointStates],
+        (du, s_du): (&[f64], &[f64]),
+        alpha: f64,
+    ) -> Result<Vec<f64>, ElasticError> {
+        let ray = self.ray;
+        for (a, &d) in ray.gamma.iter().enumerate() {
+            self.trial[d] = ray.uf[d] + alpha * du[a];
+            self.fc[d] = 0.0;
+        }
+        solver.add_interfaces(&self.trial, committed, None, &mut self.fc)?;
+        Ok((0..ray.gamma.len())
+            .map(|a| {
+                if cx.fixed[a] {
+                    0.0
+                } else {
+                    ray.rb0[a] - ray.s_delta[a] - alpha * s_du[a] - self.fc[ray.gamma[a]]
+                }
+            })
+            .collect())
+    }
 }
 
 /// A Newton ray on Γ: the iterate (full vector with current Γ entries),

@@ -42,23 +42,34 @@ impl StaticSolver<'_> {
         du: &[f64],
         r: &[f64],
     ) -> Result<f64, ElasticError> {
-        let r0 = norm(r);
-        let mut step = 1.0;
-        let mut best = (f64::INFINITY, 1.0);
-        for _ in 0..5 {
+        backtrack(norm(r), |step| {
             let trial: Vec<f64> = u.iter().zip(du).map(|(a, b)| a + step * b).collect();
             let (_, fi) = self.tangent_and_force(&trial, committed, false)?;
-            let rt = norm(&self.residual(f_ext, &fi));
-            if rt < best.0 {
-                best = (rt, step);
-            }
-            if rt <= (1.0 - 1e-4 * step) * r0 || r0 == 0.0 {
-                break;
-            }
-            step *= 0.5;
-        }
-        Ok(if best.0.is_finite() { best.1 } else { 1.0 })
+            Ok(norm(&self.residual(f_ext, &fi)))
+        })
     }
+}
+
+/// Backtracking on ‖R‖ from the full step: halve the step until the
+/// residual norm `residual(α)` falls below (1 − 1e-4 α) `r0`, keeping the
+/// best of five.
+pub(super) fn backtrack(
+    r0: f64,
+    mut residual: impl FnMut(f64) -> Result<f64, ElasticError>,
+) -> Result<f64, ElasticError> {
+    let mut step = 1.0;
+    let mut best = (f64::INFINITY, 1.0);
+    for _ in 0..5 {
+        let rt = residual(step)?;
+        if rt < best.0 {
+            best = (rt, step);
+        }
+        if rt <= (1.0 - 1e-4 * step) * r0 || r0 == 0.0 {
+            break;
+        }
+        step *= 0.5;
+    }
+    Ok(if best.0.is_finite() { best.1 } else { 1.0 })
 }
 
 /// The step along a Newton ray to the root of the directional derivative
