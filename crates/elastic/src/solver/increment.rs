@@ -272,7 +272,7 @@ impl StaticSolver<'_> {
         // Newton passes; with the augmented Lagrangian, each pass is followed
         // by a multiplier update until the multipliers settle. `start` is the
         // state set the accepted pass started from.
-        let (start, history) = loop {
+        let (mut start, history) = loop {
             let pass = passes.len() + 1;
             self.pass_forcing = if exact_next {
                 0.0
@@ -457,9 +457,12 @@ impl StaticSolver<'_> {
         let mut states = self.trial_states(&u, &start);
         if let Some(frozen) = tail.take() {
             // the converged pressures become the frozen limits of the next
-            // increment, as after a coupled increment
+            // increment, as after a coupled increment, and of the states
+            // the point output is evaluated from (with the frozen law, the
+            // limits the coupled law had: the same tractions)
             self.leave_coupled_tail(frozen, options);
             self.update_outer(&u, &mut states, (true, false));
+            self.update_outer(&u, &mut start, (true, false));
         }
         Ok((
             u,
@@ -504,8 +507,13 @@ impl StaticSolver<'_> {
         self.laws = frozen_laws;
         self.options.friction_bound = bound;
         self.condensed_choice = choice;
-        let (u, mut states, start, mut report) = result?;
+        let (u, mut states, mut start, mut report) = result?;
+        // the converged pressures as frozen limits: of the next increment,
+        // and of the states the point output is evaluated from with the
+        // frozen law (the coupled law's tractions; with the limits of the
+        // increment's start, slipping points showed stale shear tractions)
         self.update_outer(&u, &mut states, (true, false));
+        self.update_outer(&u, &mut start, (true, false));
         report.coupled = true;
         Ok((u, states, start, report))
     }
