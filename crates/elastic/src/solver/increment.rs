@@ -443,7 +443,7 @@ impl StaticSolver<'_> {
             // first iterate: the outer updates are linear from here on, and
             // the coupled passes find their fixed point directly.
             let settled = !inexact(&history) && history.iter().skip(1).all(|r| r.changed == 0);
-            if !tail_tried && settled && (previous_settled || std::env::var("XONE").is_ok()) {
+            if !tail_tried && settled && previous_settled {
                 tail = Some(self.enter_coupled_tail());
                 tail_tried = true;
                 frozen_friction = false;
