@@ -167,6 +167,7 @@ fn published_case_on_the_paper_mesh() {
         "/analytical/hoop/layer_inner",
         "/analytical/hoop/layer_outer",
         "/newton/max_iterations_per_increment",
+        "/newton/max_iterations_per_pass",
     ];
     for k in keys {
         f(&v, k);

@@ -615,6 +615,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     });
     // over every contact solve, written or not
     summary["newton_max_iterations_per_increment"] = json!(outcome.newton.max_per_increment);
+    summary["newton_max_iterations_per_pass"] = json!(outcome.newton.max_per_pass);
     // the bulk condensed onto this many interface dofs (null: full passes)
     summary["newton_condensed_interface_dofs"] = json!(outcome.newton.condensed_dofs);
     summary["newton_failed_attempt_iterations"] = json!(outcome.newton.failed_iterations);

@@ -264,6 +264,9 @@ pub struct NewtonStats {
     /// over every contact solve (two-way coupling solves the contact far
     /// more often than it writes a state).
     pub max_per_increment: usize,
+    /// Most Newton iterations in one pass (between two outer updates),
+    /// over every contact solve.
+    pub max_per_pass: usize,
     /// Most outer updates (multipliers, friction limits) in one increment,
     /// over every contact solve.
     pub max_augmentations: usize,
@@ -1072,6 +1075,7 @@ impl<'s> Contact<'s> {
                 .filter(|p| p.last().is_some_and(|h| h.inexact))
                 .count();
             self.newton.max_per_increment = self.newton.max_per_increment.max(r.iterations);
+            self.newton.max_per_pass = self.newton.max_per_pass.max(r.max_pass_iterations);
             self.newton.max_coarse_per_increment = self
                 .newton
                 .max_coarse_per_increment

@@ -272,6 +272,7 @@ fn readable(segment: &str, in_history: bool) -> String {
         "temperature_max" => "highest temperature",
         "newton" => "Newton",
         "max_iterations_per_increment" => "most iterations in one increment",
+        "max_iterations_per_pass" => "most iterations in one pass",
         "max_augmentations_per_increment" => "most outer updates in one increment",
         _ => "",
     };

@@ -453,6 +453,7 @@ pub fn summary(run: &VesselRun) -> Value {
         "newton": {
             // over every contact solve, written or not (every state's solve is one)
             "max_iterations_per_increment": run.newton.max_per_increment,
+            "max_iterations_per_pass": run.newton.max_per_pass,
             "max_augmentations_per_increment": run.newton.max_augmentations,
             "iterations": run.newton.iterations,
             "increments": run.newton.increments,
@@ -660,10 +661,11 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
         s.push('\n');
     }
     s += &format!(
-        "Newton: {} iterations in {} increments, at most {} in one increment, all passes counted (at most {} outer updates of multipliers and friction limits); {} factorisations, {} reused, {} low-rank corrected\n",
+        "Newton: {} iterations in {} increments, at most {} in one increment, all passes counted, and {} in one pass (at most {} outer updates of multipliers and friction limits); {} factorisations, {} reused, {} low-rank corrected\n",
         run.newton.iterations,
         run.newton.increments,
         v["newton"]["max_iterations_per_increment"],
+        v["newton"]["max_iterations_per_pass"],
         v["newton"]["max_augmentations_per_increment"],
         run.newton.solves.factorisations,
         run.newton.solves.reused,
