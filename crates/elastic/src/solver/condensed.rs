@@ -572,7 +572,8 @@ impl StaticSolver<'_> {
                         let s_du = Self::bulk_product(cx, &gp, &du, sx);
                         // kept with its exact line-search step, however
                         // short (see `StaticSolver::predicted_step`)
-                        let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
+                        let step =
+                            self.gamma_line_search(cx, committed, &ray, (&du, &s_du), true)?;
                         let end = ray.at(&du, step);
                         let open_at_end: Vec<bool> = self
                             .statuses(&end, committed)
@@ -638,7 +639,7 @@ impl StaticSolver<'_> {
                         };
                         let s_du = cx.chol.mul_schur(&cx.bulk_gg, &du);
                         let step =
-                            self.gamma_residual_line_search(cx, committed, &ray, &du, &s_du)?;
+                            self.gamma_line_search(cx, committed, &ray, (&du, &s_du), false)?;
                         (du, s_du, step)
                     } else {
                         let mut du = r_g.clone();
@@ -650,7 +651,8 @@ impl StaticSolver<'_> {
                             Err(e) => return Err(e.into()),
                         };
                         let s_du = Self::bulk_product(cx, &gg, &du, sx);
-                        let step = self.gamma_line_search(cx, committed, &ray, &du, &s_du)?;
+                        let step =
+                            self.gamma_line_search(cx, committed, &ray, (&du, &s_du), true)?;
                         (du, s_du, step)
                     }
                 }
@@ -857,7 +859,7 @@ impl StaticSolver<'_> {
                 rb0,
                 r: &r,
             };
-            let step = self.gamma_line_search(cx, committed, &line, &du, &s_du)?;
+            let step = self.gamma_line_search(cx, committed, &line, (&du, &s_du), true)?;
             if step == 0.0 {
                 break;
             }
@@ -871,40 +873,31 @@ impl StaticSolver<'_> {
         Ok(steps)
     }
 
-    /// The exact energy line search along `du` (on Γ): the bulk residual
-    /// along the ray is `r_b − S δ − α S du`, with S the bulk's Schur
-    /// complement and `s_du` = S du.
+    /// The step along `du` (on Γ): the bulk residual along the ray is
+    /// `r_b − S δ − α S du`, with S the bulk's Schur complement and `s_du`
+    /// = S du. With a symmetric tangent, the exact energy line search;
+    /// for the coupled law's non-symmetric steps, backtracking on the
+    /// residual (as the full pass's
+    /// [`StaticSolver::residual_line_search`]).
     fn gamma_line_search(
         &self,
         cx: &Condensed,
         committed: &[PointStates],
         ray: &Ray<'_>,
-        du: &[f64],
-        s_du: &[f64],
+        (du, s_du): (&[f64], &[f64]),
+        symmetric: bool,
     ) -> Result<f64, ElasticError> {
         let mut along = RayResidual::new(ray);
-        let g0 = -dot(ray.r, du);
-        root_along_ray(g0, |alpha| {
-            let r = along.at(self, cx, committed, (du, s_du), alpha)?;
-            Ok(-dot(&r, du))
-        })
-    }
-
-    /// Backtracking on the residual along `du` (on Γ), for the coupled
-    /// law's non-symmetric steps (as the full pass's
-    /// [`StaticSolver::residual_line_search`]).
-    fn gamma_residual_line_search(
-        &self,
-        cx: &Condensed,
-        committed: &[PointStates],
-        ray: &Ray<'_>,
-        du: &[f64],
-        s_du: &[f64],
-    ) -> Result<f64, ElasticError> {
-        let mut along = RayResidual::new(ray);
-        backtrack(norm(ray.r), |step| {
-            Ok(norm(&along.at(self, cx, committed, (du, s_du), step)?))
-        })
+        if symmetric {
+            root_along_ray(-dot(ray.r, du), |alpha| {
+                let r = along.at(self, cx, committed, (du, s_du), alpha)?;
+                Ok(-dot(&r, du))
+            })
+        } else {
+            backtrack(norm(ray.r), |step| {
+                Ok(norm(&along.at(self, cx, committed, (du, s_du), step)?))
+            })
+        }
     }
 
     /// The bulk part S_b du of a Schur product: `sx` = (S_b + K_c) du less

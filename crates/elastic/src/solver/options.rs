@@ -152,7 +152,7 @@ pub struct SolverOptions {
     /// non-symmetric steps by GMRES preconditioned with the frozen
     /// tangent), whose fixed point is the same Coulomb solution; only the
     /// normal multipliers are updated between them. A coupled pass that
-    /// does not converge within 20 iterations (`COUPLED_TAIL_MAX_ITERATIONS`) hands the
+    /// does not converge within [`COUPLED_TAIL_MAX_ITERATIONS`] hands the
     /// increment back to the frozen passes. The converged answer is the
     /// same either way (to the outer loop's tolerance); only the path
     /// changes.
