@@ -4,7 +4,8 @@
 //!
 //! Covered: the `tecon vessel` table rows `paper`, `1`, `2` (triangles, the
 //! four mean hoop prestresses, the mean contact pressure, Newton
-//! iterations), the shrink-fit example's FE contact pressure, and the
+//! iterations), the rows `paper` and `2` of the Newton counts in "Known
+//! limits", the shrink-fit example's FE contact pressure, and the
 //! torsion examples (J and τ_max of the unit square, J of the box). The
 //! finer meshes of the table (levels 3 to 5, minutes) and the wall times
 //! are not run here.
@@ -129,6 +130,57 @@ fn the_vessel_table_rows_paper_1_2_and_g0_are_what_tecon_vessel_gives() {
             num(&v, "/newton/iterations"),
             "mesh {mesh}: Newton iterations in the README"
         );
+    }
+}
+
+/// The "Known limits" table of Newton counts: the rows `paper` and `2`
+/// (most iterations in one increment / in one pass, per joint).
+#[test]
+fn the_newton_count_rows_paper_and_2_are_what_tecon_vessel_gives() {
+    let text = readme();
+    let header = "| mesh | frictionless | μ = 0.3 | μ = 1 | μ = 2 | bonded |";
+    let table: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .skip_while(|l| *l != header)
+        .take_while(|l| l.starts_with('|'))
+        .collect();
+    assert!(!table.is_empty(), "README has no Newton count table");
+    let d = tempfile::tempdir().unwrap();
+    let joints: [&[&str]; 5] = [
+        &["--interface", "frictionless"],
+        &["--friction", "0.3"],
+        &["--friction", "1"],
+        &["--friction", "2"],
+        &["--interface", "bonded"],
+    ];
+    for mesh in ["paper", "2"] {
+        let row: Vec<&str> = table
+            .iter()
+            .find(|l| l.starts_with(&format!("| {mesh} |")))
+            .unwrap_or_else(|| panic!("the Newton count table has no row {mesh}"))
+            .split('|')
+            .map(str::trim)
+            .collect();
+        for (k, joint) in joints.iter().enumerate() {
+            let (inc, pass) = row[2 + k]
+                .split_once('/')
+                .unwrap_or_else(|| panic!("cell `{}` is not `N / M`", row[2 + k]));
+            let out = d.path().join(format!("n{mesh}_{k}"));
+            let mut args = vec!["vessel", "--mesh", mesh, "--quiet", "--out"];
+            args.push(out.to_str().unwrap());
+            args.extend_from_slice(joint);
+            tecon(&args, d.path());
+            let v = summary(&out);
+            assert_eq!(
+                (parse(inc), parse(pass)),
+                (
+                    num(&v, "/newton/max_iterations_per_increment"),
+                    num(&v, "/newton/max_iterations_per_pass")
+                ),
+                "mesh {mesh} {joint:?}: most Newton iterations per increment / pass"
+            );
+        }
     }
 }
 
