@@ -584,3 +584,29 @@ fn exact_passes_key_gives_the_same_shrink_fit() {
     ));
     assert!(e.contains("exact_passes"), "{e}");
 }
+
+/// `mechanical.coarse_levels` outside 1 to 6 is refused, naming the key
+/// and the range (the shrink fit's passes are not condensed, so a valid
+/// value changes nothing there: it is only parsed).
+#[test]
+fn coarse_levels_key_is_checked() {
+    for bad in ["0", "7"] {
+        let (e, _d) = error_of(&edited(
+            "[mechanical]\n",
+            &format!("[mechanical]\ncoarse_levels = {bad}\n"),
+        ));
+        assert!(
+            e.contains(&format!("mechanical.coarse_levels = {bad}")) && e.contains("1 to 6"),
+            "{e}"
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("fit.toml");
+    std::fs::write(
+        &path,
+        edited("[mechanical]\n", "[mechanical]\ncoarse_levels = 3\n"),
+    )
+    .unwrap();
+    let c = case::load(&path).unwrap();
+    assert!(case::execute(&c, dir.path()).is_ok());
+}

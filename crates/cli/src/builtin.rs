@@ -118,6 +118,9 @@ pub struct VesselOptions {
     /// The coarse interface space before the first pass of an increment,
     /// with condensed passes (false: off).
     pub coarse_space: bool,
+    /// Coarse levels before a frictionless first pass (1: the finest
+    /// alone).
+    pub coarse_levels: u32,
     /// The coupled tail of the outer loop under frozen friction limits
     /// (false: frozen passes to the end).
     pub coupled_tail: bool,
@@ -160,6 +163,7 @@ impl Default for VesselOptions {
             augmented_lagrangian: Some(1e-4),
             condensation: true,
             coarse_space: true,
+            coarse_levels: tecon_elastic::COARSE_LEVELS,
             coupled_tail: true,
             exact_passes: false,
             pressure: None,
@@ -381,6 +385,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
             reference_temperature: None,
             condensation: Some(o.condensation),
             coarse_space: Some(o.coarse_space),
+            coarse_levels: Some(o.coarse_levels),
             coupled_tail: Some(o.coupled_tail),
             exact_passes: Some(o.exact_passes),
         },

@@ -367,6 +367,10 @@ pub struct MechanicalSection {
     /// that starts far from equilibrium (default true; false as a
     /// cross-check: the answers agree to the tolerances).
     pub coarse_space: Option<bool>,
+    /// Coarse levels of the coarse space before the first pass of a
+    /// frictionless joint's increment (default
+    /// [`tecon_elastic::COARSE_LEVELS`]; 1: the finest level alone).
+    pub coarse_levels: Option<u32>,
     /// Under frozen friction limits, once the statuses of two passes in a
     /// row have settled, the rest of the increment's outer loop in Newton
     /// passes on the coupled law (default true; false as a cross-check:

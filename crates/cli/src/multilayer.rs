@@ -85,6 +85,9 @@ pub struct MultilayerOptions {
     /// The coarse interface space with condensed passes (see
     /// [`crate::builtin::VesselOptions::coarse_space`]).
     pub coarse_space: bool,
+    /// Coarse levels before a frictionless first pass (see
+    /// [`crate::builtin::VesselOptions::coarse_levels`]).
+    pub coarse_levels: u32,
     /// The coupled tail of the outer loop (see
     /// [`crate::builtin::VesselOptions::coupled_tail`]).
     pub coupled_tail: bool,
@@ -134,6 +137,7 @@ impl MultilayerOptions {
             verbose: false,
             condensation: true,
             coarse_space: true,
+            coarse_levels: tecon_elastic::COARSE_LEVELS,
             coupled_tail: true,
             exact_passes: false,
             capacity: crate::case::Capacity::Consistent,
@@ -443,6 +447,7 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
         max_iterations: 150,
         condensation: o.condensation,
         coarse_space: o.coarse_space,
+        coarse_levels: o.coarse_levels,
         coupled_tail: o.coupled_tail,
         pass_forcing: if o.exact_passes {
             0.0

@@ -1080,6 +1080,7 @@ pub fn run(
     o.verbose = args.verbose;
     o.condensation = !args.no_condensation;
     o.coarse_space = !args.no_coarse_space;
+    o.coarse_levels = args.coarse_levels;
     o.coupled_tail = !args.no_coupled_tail;
     o.exact_passes = args.exact_passes;
     o.capacity = crate::case::Capacity::parse(&args.capacity)?;

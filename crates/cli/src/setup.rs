@@ -26,6 +26,10 @@ use crate::driver::{
     Coupling, LoadFactors, Procedure, Setup, Stage, StageTemperature, ThermalSetup,
 };
 
+/// Most coarse levels a case may ask for (each is four times as wide as
+/// the one before; beyond a few the coarsest has too few dofs to be made).
+const MAX_COARSE_LEVELS: u32 = 6;
+
 pub(crate) fn positive(file: &Path, key: &str, v: f64) -> CliResult<f64> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
@@ -897,11 +901,24 @@ pub fn prepare<'m>(
             }
         }
     };
+    let coarse_levels = match mech.coarse_levels {
+        None => tecon_elastic::COARSE_LEVELS,
+        Some(n @ 1..=MAX_COARSE_LEVELS) => n,
+        Some(n) => {
+            return Err(err(
+                f,
+                format!(
+                    "mechanical.coarse_levels = {n}: must be 1 to {MAX_COARSE_LEVELS} (1: the finest coarse level alone)"
+                ),
+            ));
+        }
+    };
     let solver = SolverOptions {
         augmented_lagrangian: al,
         max_iterations: 150,
         condensation: mech.condensation.unwrap_or(true),
         coarse_space: mech.coarse_space.unwrap_or(true),
+        coarse_levels,
         coupled_tail: mech.coupled_tail.unwrap_or(true),
         pass_forcing: if mech.exact_passes.unwrap_or(false) {
             0.0

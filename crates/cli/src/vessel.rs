@@ -969,6 +969,12 @@ pub struct VesselArgs {
     /// the tolerances)
     #[arg(long)]
     pub no_coarse_space: bool,
+    /// Coarse levels of the coarse interface space before a frictionless
+    /// joint's first Newton pass (each four times as wide as the one
+    /// before; 1: the finest alone)
+    #[arg(long, value_name = "N", default_value_t = tecon_elastic::COARSE_LEVELS,
+          value_parser = clap::value_parser!(u32).range(1..=6))]
+    pub coarse_levels: u32,
     /// No coupled tail of the outer loop: frozen friction limits to the
     /// end of every increment (a cross-check; the answers agree to the
     /// outer loop's tolerance)
@@ -1126,6 +1132,7 @@ pub fn options(args: &VesselArgs) -> CliResult<VesselOptions> {
         augmented_lagrangian: if args.penalty_only { None } else { Some(1e-4) },
         condensation: !args.no_condensation,
         coarse_space: !args.no_coarse_space,
+        coarse_levels: args.coarse_levels,
         coupled_tail: !args.no_coupled_tail,
         exact_passes: args.exact_passes,
         normals: if args.element_normals {

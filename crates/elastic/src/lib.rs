@@ -55,8 +55,8 @@ pub use kernels::{
 pub use material::{Analysis, Material};
 pub use model::{Component, ElasticModel, InterfaceNormals, ModelInterface};
 pub use solver::{
-    COUPLED_TAIL_MAX_ITERATIONS, IncrementReport, InterfacePointResult, Loads, PASS_FORCING,
-    PointStates, QuadraticStresses, SolverOptions, SolverState, StaticSolver, StressField,
-    nodal_displacement, polar, quadratic_stresses, stresses, von_mises,
+    COARSE_LEVELS, COUPLED_TAIL_MAX_ITERATIONS, IncrementReport, InterfacePointResult, Loads,
+    PASS_FORCING, PointStates, QuadraticStresses, SolverOptions, SolverState, StaticSolver,
+    StressField, nodal_displacement, polar, quadratic_stresses, stresses, von_mises,
 };
 pub use tie::TiedMesh;

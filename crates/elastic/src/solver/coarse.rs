@@ -32,8 +32,11 @@
 //! stop once Pᵀ r has fallen by [`COARSE_TOLERANCE`], or no status changed
 //! in a step, or after [`COARSE_MAX_ITERATIONS`]; the fine pass then goes
 //! on from there with its own convergence test, so the answer is the fine
-//! one (only the path changes). Only passes without any frozen slip limit
-//! above zero take coarse steps (frictionless joints, and a frictional
+//! one (only the path changes). A frictionless joint's first pass takes
+//! them on a second level four times as wide first (see
+//! [`crate::SolverOptions::coarse_levels`]): the front moves by the wide
+//! segments, then by the narrow ones. Only passes without any frozen slip
+//! limit above zero take coarse steps (frictionless joints, and a frictional
 //! joint's first increment from the unloaded state): with stick zones in
 //! place, the smooth coarse field undoes them, and the high-friction
 //! counts got worse (level 4 at μ = 1: 69 iterations in one increment
@@ -60,6 +63,13 @@ use crate::model::ModelInterface;
 /// it is affordable; this cap gives every 2nd node on levels 2 and 3 and
 /// every 4th on level 4 and `t1e5`.
 pub(super) const MAX_COARSE_DOFS: usize = 512;
+
+/// The ratio of the node spacings of two successive coarse levels (a power
+/// of two).
+pub(super) const COARSE_LEVEL_SPACING: u32 = 4;
+
+/// Fewest dofs of a coarser level.
+const MIN_COARSE_DOFS: usize = 8;
 
 /// Shift of the coarse system's diagonal, relative to the largest diagonal
 /// entry of the bulk's coarse system Pᵀ S_b P, when it is not definite in
@@ -318,24 +328,48 @@ pub(super) struct CoarseSpace {
 }
 
 impl CoarseSpace {
-    /// The coarse space of `interfaces` (see [`interpolation`]) on the Γ of
-    /// `chol`, whose bulk A_ΓΓ values are `bulk_gg` (in
-    /// [`CondensedCholesky::gamma_entries`] order).
-    pub fn new(
+    /// The coarse spaces of `interfaces` (see [`interpolation`]) on the Γ
+    /// of `chol`, whose bulk A_ΓΓ values are `bulk_gg` (in
+    /// [`CondensedCholesky::gamma_entries`] order), coarsest first: the
+    /// finest spacing within [`MAX_COARSE_DOFS`], then up to `levels` − 1
+    /// coarser ones, each [`COARSE_LEVEL_SPACING`] times as wide, while
+    /// they keep [`MIN_COARSE_DOFS`]. Empty when the interfaces are no
+    /// simple chains.
+    pub fn hierarchy(
         interfaces: &[Vec<Faces>],
         coords: &[Point],
         chol: &CondensedCholesky,
         bulk_gg: &[f64],
         fixed: &[bool],
-    ) -> Option<Self> {
+        levels: u32,
+    ) -> Vec<Self> {
+        let gamma = chol.gamma();
+        // the finest spacing within the size cap
+        let Some(e0) = (1..=16u32).find(|&e| {
+            interpolation(interfaces, coords, gamma, fixed, 1 << e)
+                .is_some_and(|(_, mc)| mc <= MAX_COARSE_DOFS)
+        }) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for level in 0..levels.max(1) {
+            let e = e0 + level * COARSE_LEVEL_SPACING.ilog2();
+            match interpolation(interfaces, coords, gamma, fixed, 1 << e) {
+                Some((rows, mc)) if level == 0 || mc >= MIN_COARSE_DOFS => {
+                    out.push(Self::new(rows, mc, chol, bulk_gg));
+                }
+                _ => break,
+            }
+        }
+        out.reverse();
+        out
+    }
+
+    /// The coarse space whose Γ positions interpolate the `mc` coarse dofs
+    /// by `rows`.
+    fn new(rows: Rows, mc: usize, chol: &CondensedCholesky, bulk_gg: &[f64]) -> Self {
         let gamma = chol.gamma();
         let m = gamma.len();
-        // the finest spacing within the size cap
-        let (rows, mc) = (1..=16)
-            .map(|e| interpolation(interfaces, coords, gamma, fixed, 1 << e))
-            .take_while(Option::is_some)
-            .flatten()
-            .find(|(_, mc)| *mc <= MAX_COARSE_DOFS)?;
         let c = chol.coupling_matrix();
         // S_b P = A_ΓΓ P − C P, column by column
         let mut sbp = vec![0.0; m * mc];
@@ -383,7 +417,7 @@ impl CoarseSpace {
             }
         }
         space.shift = COARSE_SHIFT * diag.iter().map(|d| d.abs()).fold(0.0, f64::max);
-        Some(space)
+        space
     }
 
     /// Coarse dofs.

@@ -56,9 +56,9 @@ pub(super) struct Condensed {
     /// Full-pattern matrix the interface tangents are assembled into; only
     /// its Γ × Γ entries are read (and zeroed before each assembly).
     scratch: CsrMatrix,
-    /// The coarse space of the first passes (None: off, or the interfaces
-    /// are no simple chains; see `coarse`).
-    coarse: Option<CoarseSpace>,
+    /// The coarse spaces of the first passes, coarsest first (empty: off, or
+    /// the interfaces are no simple chains; see `coarse`).
+    coarse: Vec<CoarseSpace>,
 }
 
 /// The state at the end of a condensed pass, kept so that the next pass of
@@ -154,7 +154,7 @@ impl StaticSolver<'_> {
     pub fn coarse_dofs(&self) -> Option<usize> {
         self.condensed
             .as_ref()
-            .and_then(|c| c.coarse.as_ref())
+            .and_then(|c| c.coarse.last())
             .map(CoarseSpace::dofs)
     }
 
@@ -304,9 +304,16 @@ impl StaticSolver<'_> {
                 .iter()
                 .map(super::coarse::element_faces)
                 .collect();
-            CoarseSpace::new(&faces, self.model.mesh.nodes(), &chol, &bulk_gg, &fixed)
+            CoarseSpace::hierarchy(
+                &faces,
+                self.model.mesh.nodes(),
+                &chol,
+                &bulk_gg,
+                &fixed,
+                self.options.coarse_levels,
+            )
         } else {
-            None
+            Vec::new()
         };
         Ok(Condensed {
             chol,
@@ -462,33 +469,47 @@ impl StaticSolver<'_> {
         };
         // (with frozen slip limits in place the smooth coarse field undoes
         // the stick zones: see `coarse`)
-        if first
-            && !coupled
-            && self.without_slip_limits(committed)
-            && let Some(space) = cx.coarse.take()
-        {
+        if first && !coupled && self.without_slip_limits(committed) && !cx.coarse.is_empty() {
+            let spaces = std::mem::take(&mut cx.coarse);
+            // (a joint with slip limits takes the finest level alone: see
+            // `SolverOptions::coarse_levels`)
+            let levels = if self.has_slip_limits() {
+                &spaces[spaces.len() - 1..]
+            } else {
+                &spaces[..]
+            };
             // far from the new equilibrium: the coarse iteration first
             let (fcg, _) = self.gamma_force(cx, &uf, committed, &mut fc, false)?;
             let r_g = residual(&s_delta, &fcg, &cx.fixed);
             let (_, f_int_norm) = scale(&cx.bulk_gg, &r_g, &uf);
             let outcome = if norm(&r_g) >= COARSE_GATE * t.reference.max(f_int_norm) {
-                let ray = CoarseRay {
-                    gamma: &gamma,
-                    start: &u,
-                    rb0: &rb0,
-                };
-                self.coarse_iteration(
-                    cx,
-                    &space,
-                    committed,
-                    ray,
-                    (&mut delta, &mut s_delta),
-                    &mut uf,
-                )
+                let mut total = Ok(0);
+                for space in levels {
+                    let ray = CoarseRay {
+                        gamma: &gamma,
+                        start: &u,
+                        rb0: &rb0,
+                    };
+                    match self.coarse_iteration(
+                        cx,
+                        space,
+                        committed,
+                        ray,
+                        (&mut delta, &mut s_delta),
+                        &mut uf,
+                    ) {
+                        Ok(n) => total = total.map(|t| t + n),
+                        Err(e) => {
+                            total = Err(e);
+                            break;
+                        }
+                    }
+                }
+                total
             } else {
                 Ok(0)
             };
-            cx.coarse = Some(space);
+            cx.coarse = spaces;
             let its = outcome?;
             self.coarse_in_increment += its;
             self.coarse_total += its;

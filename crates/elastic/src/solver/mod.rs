@@ -45,8 +45,8 @@ mod states;
 mod tracker;
 
 pub use options::{
-    COUPLED_TAIL_MAX_ITERATIONS, IncrementReport, InterfacePointResult, Loads, PASS_FORCING,
-    SolverOptions,
+    COARSE_LEVELS, COUPLED_TAIL_MAX_ITERATIONS, IncrementReport, InterfacePointResult, Loads,
+    PASS_FORCING, SolverOptions,
 };
 pub use recovery::{
     QuadraticStresses, StressField, nodal_displacement, polar, quadratic_stresses, stresses,

@@ -143,6 +143,13 @@ pub struct SolverOptions {
     /// The coarse steps are counted apart from the Newton iterations
     /// ([`IncrementReport::coarse_iterations`]).
     pub coarse_space: bool,
+    /// Coarse levels of the coarse iteration before a first pass without
+    /// any slip limit (frictionless joints): the finest spacing within the
+    /// coarse system's size cap, and `coarse_levels − 1` more, each four
+    /// times as wide, taken coarsest first. A joint with a friction
+    /// coefficient or a cohesion takes the finest level alone. Default
+    /// [`COARSE_LEVELS`] (1: the finest level alone).
+    pub coarse_levels: u32,
     /// The coupled tail of the outer loop under frozen friction limits:
     /// once a pass solved exactly changes no status after its first
     /// iterate, the outer updates are in their linear regime, where the
@@ -186,6 +193,7 @@ impl Default for SolverOptions {
             slip_damping: true,
             condensation: true,
             coarse_space: true,
+            coarse_levels: COARSE_LEVELS,
             coupled_tail: true,
             pass_forcing: PASS_FORCING,
         }
@@ -226,6 +234,25 @@ pub struct IncrementReport {
     /// one included.
     pub coupled_tail_passes: Vec<usize>,
 }
+
+/// Default of [`SolverOptions::coarse_levels`]. A frictionless first pass
+/// takes Newton steps on each level, coarsest first, then the fine ones.
+/// Measured on the vessel, frictionless (most Newton iterations in one
+/// increment / in one pass, and the coarse steps of the run; one level →
+/// two levels four times as wide apart): level 2 12 / 7 → 11 / 6 (32 →
+/// 63), level 3 10 / 8 → 11 / 8, level 4 20 / 18 → 12 / 9 (62 → 83),
+/// level 5 15 / 10 → 17 / 11, `x12` 13 / 10 → 13 / 8, `t1e5` 14 / 12 →
+/// 14 / 9 (74 → 103; 0.94× the wall time), `t3e5` 28 / 26 → 17 / 9,
+/// `t1e6` 21 / 15 → 23 / 17: the worst pass 26 → 17, the mean of the
+/// worst passes 13.3 → 9.6, the fine iterations of the eight runs 496 →
+/// 466; the two quarter rings of the elastic tests (256 segments) 5 → 7
+/// in the first pass. Two levels twice as wide apart: level 2, 4 and
+/// `t1e5` 12 / 7, 13 / 11, 14 / 8; three levels four times apart 11 / 7,
+/// 12 / 9, 14 / 11. A joint with slip limits keeps the finest level alone:
+/// the high-friction counts, which depend on where the first pass ends,
+/// moved either way (level 4 at μ = 1: 50 → 71 in one increment; `t1e5`
+/// at μ = 1: 171 → 72).
+pub const COARSE_LEVELS: u32 = 2;
 
 /// Most Newton iterations of one pass in the coupled tail of the outer
 /// loop (see [`SolverOptions::coupled_tail`]): one that needs more hands
