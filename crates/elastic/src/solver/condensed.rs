@@ -574,7 +574,7 @@ impl StaticSolver<'_> {
                 r: &r_g,
             };
             let sticks = if symmetric && opts.front_prediction {
-                t.reversed_points(&obs.status)
+                t.stick_predictions(&obs.status)
             } else {
                 Vec::new()
             };
@@ -678,6 +678,10 @@ impl StaticSolver<'_> {
                     }
                 }
             };
+            if symmetric && opts.front_prediction && step < 1.0 {
+                let full = ray.at(&du, 1.0);
+                t.short_step(&obs.status, &self.statuses(&full, committed));
+            }
             for a in 0..m {
                 delta[a] += step * du[a];
                 s_delta[a] += step * s_du[a];

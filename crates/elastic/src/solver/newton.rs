@@ -99,7 +99,7 @@ impl StaticSolver<'_> {
                 symmetric && opts.front_prediction,
             );
             let sticks = if symmetric && opts.front_prediction {
-                t.reversed_points(&obs.status)
+                t.stick_predictions(&obs.status)
             } else {
                 Vec::new()
             };
@@ -191,6 +191,10 @@ impl StaticSolver<'_> {
             } else {
                 self.residual_line_search(f_ext, committed, &u, &du, &r)?
             };
+            if symmetric && opts.front_prediction && step < 1.0 {
+                let full: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + b).collect();
+                t.short_step(&obs.status, &self.statuses(&full, committed));
+            }
             self.recycle(kt);
             for (a, b) in u.iter_mut().zip(&du) {
                 *a += step * b;
