@@ -415,12 +415,16 @@ pub(super) fn failure(reason: impl Into<String>, history: Vec<IterationRecord>) 
 mod tests {
     use super::*;
 
-    /// Observes `status` (every point carrying traction 1) and takes a
-    /// full step.
-    fn iterate(t: &mut PassTracker, status: &[PointStatus]) {
+    /// Observes `status` (every point carrying traction 1).
+    fn look(t: &mut PassTracker, status: &[PointStatus]) {
         let opts = SolverOptions::default();
         let st = status.iter().map(|&s| (s, 1.0)).collect();
         t.observe(st, 1.0, (0.0, false), 1e-10, &opts).unwrap();
+    }
+
+    /// Observes `status` and takes a full step.
+    fn iterate(t: &mut PassTracker, status: &[PointStatus]) {
+        look(t, status);
         t.stepped(1.0, 1.0).unwrap();
     }
 
@@ -466,26 +470,12 @@ mod tests {
             iterate(&mut t, &now);
         }
         // the iterate before the gate: its short step predicts nothing
-        t.observe(
-            now.iter().map(|&s| (s, 1.0)).collect(),
-            1.0,
-            (0.0, false),
-            1e-10,
-            &SolverOptions::default(),
-        )
-        .unwrap();
+        look(&mut t, &now);
         t.short_step(&now, &full);
         assert!(t.stick_predictions(&now).is_empty());
         t.stepped(0.01, 1e-3).unwrap();
         // from the gate on
-        t.observe(
-            now.iter().map(|&s| (s, 1.0)).collect(),
-            1.0,
-            (0.0, false),
-            1e-10,
-            &SolverOptions::default(),
-        )
-        .unwrap();
+        look(&mut t, &now);
         t.short_step(&now, &full);
         assert_eq!(t.stick_predictions(&now), vec![0, 1]);
         // used once
