@@ -345,17 +345,17 @@ impl CoarseSpace {
     ) -> Vec<Self> {
         let gamma = chol.gamma();
         // the finest spacing within the size cap
-        let Some(e0) = (1..=16u32).find(|&e| {
-            interpolation(interfaces, coords, gamma, fixed, 1 << e)
-                .is_some_and(|(_, mc)| mc <= MAX_COARSE_DOFS)
-        }) else {
+        let Some((e0, (rows, mc))) = (1..=16u32)
+            .map_while(|e| interpolation(interfaces, coords, gamma, fixed, 1 << e).map(|r| (e, r)))
+            .find(|(_, (_, mc))| *mc <= MAX_COARSE_DOFS)
+        else {
             return Vec::new();
         };
-        let mut out = Vec::new();
-        for level in 0..levels.max(1) {
+        let mut out = vec![Self::new(rows, mc, chol, bulk_gg)];
+        for level in 1..levels {
             let e = e0 + level * COARSE_LEVEL_SPACING.ilog2();
             match interpolation(interfaces, coords, gamma, fixed, 1 << e) {
-                Some((rows, mc)) if level == 0 || mc >= MIN_COARSE_DOFS => {
+                Some((rows, mc)) if mc >= MIN_COARSE_DOFS => {
                     out.push(Self::new(rows, mc, chol, bulk_gg));
                 }
                 _ => break,

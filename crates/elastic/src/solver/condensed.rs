@@ -482,33 +482,27 @@ impl StaticSolver<'_> {
             let (fcg, _) = self.gamma_force(cx, &uf, committed, &mut fc, false)?;
             let r_g = residual(&s_delta, &fcg, &cx.fixed);
             let (_, f_int_norm) = scale(&cx.bulk_gg, &r_g, &uf);
-            let outcome = if norm(&r_g) >= COARSE_GATE * t.reference.max(f_int_norm) {
-                let mut total = Ok(0);
-                for space in levels {
-                    let ray = CoarseRay {
-                        gamma: &gamma,
-                        start: &u,
-                        rb0: &rb0,
-                    };
-                    match self.coarse_iteration(
-                        cx,
-                        space,
-                        committed,
-                        ray,
-                        (&mut delta, &mut s_delta),
-                        &mut uf,
-                    ) {
-                        Ok(n) => total = total.map(|t| t + n),
-                        Err(e) => {
-                            total = Err(e);
-                            break;
-                        }
-                    }
-                }
-                total
-            } else {
-                Ok(0)
-            };
+            let outcome: Result<usize, ElasticError> =
+                if norm(&r_g) >= COARSE_GATE * t.reference.max(f_int_norm) {
+                    levels.iter().try_fold(0, |steps, space| {
+                        let ray = CoarseRay {
+                            gamma: &gamma,
+                            start: &u,
+                            rb0: &rb0,
+                        };
+                        let n = self.coarse_iteration(
+                            cx,
+                            space,
+                            committed,
+                            ray,
+                            (&mut delta, &mut s_delta),
+                            &mut uf,
+                        )?;
+                        Ok(steps + n)
+                    })
+                } else {
+                    Ok(0)
+                };
             cx.coarse = spaces;
             let its = outcome?;
             self.coarse_in_increment += its;
@@ -678,7 +672,7 @@ impl StaticSolver<'_> {
                     }
                 }
             };
-            if symmetric && opts.front_prediction && step < 1.0 {
+            if symmetric && opts.front_prediction && step < 1.0 && t.predicts_from_full_steps() {
                 let full = ray.at(&du, 1.0);
                 t.short_step(&obs.status, &self.statuses(&full, committed));
             }

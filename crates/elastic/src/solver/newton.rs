@@ -191,7 +191,7 @@ impl StaticSolver<'_> {
             } else {
                 self.residual_line_search(f_ext, committed, &u, &du, &r)?
             };
-            if symmetric && opts.front_prediction && step < 1.0 {
+            if symmetric && opts.front_prediction && step < 1.0 && t.predicts_from_full_steps() {
                 let full: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + b).collect();
                 t.short_step(&obs.status, &self.statuses(&full, committed));
             }

@@ -253,6 +253,12 @@ impl PassTracker {
         out
     }
 
+    /// True once the pass is long enough for [`PassTracker::short_step`]
+    /// to predict: the callers evaluate the laws at the full step only then.
+    pub fn predicts_from_full_steps(&self) -> bool {
+        self.history.len() >= FULL_STEP_PREDICTION_AFTER
+    }
+
     /// The line search cut the last step short (`step` < 1) at an iterate
     /// with the statuses `now`; `at_full`: the statuses at the end of the
     /// full Newton step. From the [`FULL_STEP_PREDICTION_AFTER`]-th
@@ -271,7 +277,7 @@ impl PassTracker {
     /// took longer paths with it (μ = 0.3: level 4 11 → 19 iterations in
     /// one pass), hence the gate.
     pub fn short_step(&mut self, now: &[PointStatus], at_full: &[(PointStatus, f64)]) {
-        if self.history.len() < FULL_STEP_PREDICTION_AFTER {
+        if !self.predicts_from_full_steps() {
             return;
         }
         self.stick_at_full = now
