@@ -38,6 +38,11 @@ pub struct JointState {
 /// frozen-limit law takes the stick stiffness as its tangent.
 const KINK_TOLERANCE: f64 = 1e-6;
 
+/// How far past its limit [`MohrCoulomb::slipping_state`] puts a point's
+/// trial traction, relative to the limit: well past [`KINK_TOLERANCE`], so
+/// the point takes the slipping tangent.
+const FORCED_SLIP_MARGIN: f64 = 1e-3;
+
 /// How a [`MohrCoulomb`] law takes the normal pressure into its slip limit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum FrictionBound {
@@ -247,6 +252,38 @@ impl<N: NormalLaw> MohrCoulomb<N> {
     /// (tension positive).
     pub fn strength(&self, sigma: f64) -> f64 {
         (self.cohesion - sigma * self.tan_phi).max(0.0)
+    }
+
+    /// A copy of `committed` in which a closed point with a frozen slip
+    /// limit `s > 0` slips at `jump`, in the direction of its shear there:
+    /// its plastic slip set so that the trial traction is just past the
+    /// limit (by [`FORCED_SLIP_MARGIN`]). Evaluated at `jump` the copy
+    /// gives the traction ±s and the slipping tangent. For a solver that
+    /// tries a Newton step on the branch where a sticking point slips (a
+    /// copy used for that step only, never committed). None where the law
+    /// has no frozen limit, the point is open, its limit is 0 or its shear
+    /// is exactly 0 (no direction).
+    pub fn slipping_state(
+        &self,
+        jump: &Vector2<f64>,
+        committed: &JointState,
+    ) -> Option<JointState> {
+        if self.bound != FrictionBound::Frozen {
+            return None;
+        }
+        let nr = self.normal.normal(jump.y, committed.lambda_n);
+        if nr.stage == NormalStage::Separation {
+            return None;
+        }
+        let s = self.strength(-committed.friction_pressure);
+        let tau_trial = self.k_s * (jump.x - committed.slip);
+        if s <= 0.0 || tau_trial == 0.0 || !tau_trial.is_finite() {
+            return None;
+        }
+        Some(JointState {
+            slip: jump.x - tau_trial.signum() * s * (1.0 + FORCED_SLIP_MARGIN) / self.k_s,
+            ..*committed
+        })
     }
 
     /// Tresca return mapping with limit `s > 0` from the committed slip

@@ -734,6 +734,60 @@ fn secant_slip_changes_only_the_tangent_of_a_slipping_frozen_point() {
     assert_eq!(stick.tangent[(0, 0)], frozen.k_s());
 }
 
+/// The state a solver uses to try a sticking point as slipping: at the same
+/// jump it slips, in the direction of its shear, with the traction on the
+/// limit and the slipping tangent; nothing else of the state changes. No
+/// such state where the law has no frozen limit, the point is open or its
+/// shear is 0.
+#[test]
+fn a_slipping_state_puts_a_sticking_point_on_its_limit() {
+    let frozen = friction_law(0.1e6, 30.0).with_friction_bound(FrictionBound::Frozen);
+    let st = JointState {
+        friction_pressure: 1.0e6,
+        slip: 1e-6,
+        lambda_n: 5.0,
+        ..Default::default()
+    };
+    let s = frozen.strength(-st.friction_pressure);
+    for shear in [1e-9, -2e-8] {
+        let jump = Vector2::new(st.slip + shear, -2e-6);
+        let sticking = frozen.evaluate(&jump, &st);
+        assert_eq!(sticking.status, ContactStatus::Stick);
+        let forced = frozen.slipping_state(&jump, &st).unwrap();
+        assert_eq!(
+            JointState {
+                slip: st.slip,
+                ..forced
+            },
+            st
+        );
+        let r = frozen.evaluate(&jump, &forced);
+        assert_eq!(r.status, ContactStatus::Slip);
+        assert_relative_eq!(r.traction.x, shear.signum() * s, max_relative = 1e-14);
+        assert_eq!(r.traction.y, sticking.traction.y);
+        assert_eq!(r.tangent[(0, 0)], 0.0);
+        assert_eq!(r.tangent[(1, 1)], sticking.tangent[(1, 1)]);
+    }
+    // no shear: no direction to slip in
+    assert!(
+        frozen
+            .slipping_state(&Vector2::new(st.slip, -2e-6), &st)
+            .is_none()
+    );
+    // open, or a coupled limit: none
+    assert!(
+        frozen
+            .slipping_state(&Vector2::new(2e-6, 1e-3), &st)
+            .is_none()
+    );
+    let coupled = friction_law(0.1e6, 30.0);
+    assert!(
+        coupled
+            .slipping_state(&Vector2::new(2e-6, -2e-6), &st)
+            .is_none()
+    );
+}
+
 /// An open point sliding on its frozen limit takes the tangents of a closed
 /// slipping one: the stick stiffness k_s within round-off of the kink, the
 /// secant k_s s/|τ_trial| when the solver damps it, 0 otherwise; the

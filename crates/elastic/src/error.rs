@@ -31,8 +31,9 @@ pub struct IterationRecord {
     /// tolerance, where the exact value changes nothing) rather than the
     /// floor itself.
     pub floor_is_bound: bool,
-    /// Points the step assumed open ahead of an opening front (see the
-    /// solver's front prediction); 0 for an exact Newton step.
+    /// Points the step assumed open ahead of an opening front or slipping
+    /// ahead of a slip front (see the solver's front prediction); 0 for an
+    /// exact Newton step.
     pub predicted: usize,
     /// True for a predicted step that was tried and discarded (a linear
     /// solve that did not move the iterate).
@@ -62,7 +63,7 @@ impl std::fmt::Display for IterationRecord {
         if self.predicted > 0 {
             write!(
                 f,
-                ", {} predicted open{}",
+                ", {} predicted to open or slip{}",
                 self.predicted,
                 if self.rejected { " (rejected)" } else { "" }
             )?;

@@ -27,6 +27,20 @@ impl Joint {
             other => other.clone(),
         }
     }
+
+    /// A copy of `committed` that slips at `jump` (see
+    /// [`tecon_contact::MohrCoulomb::slipping_state`]); None for the laws
+    /// without a frozen slip limit.
+    pub fn slipping_state(
+        &self,
+        jump: &Vector2<f64>,
+        committed: &JointState,
+    ) -> Option<JointState> {
+        match self {
+            Joint::Frictional(l) => l.slipping_state(jump, committed),
+            _ => None,
+        }
+    }
 }
 
 impl ContactLaw for Joint {

@@ -572,13 +572,24 @@ impl StaticSolver<'_> {
             } else {
                 Vec::new()
             };
-            let trial = if predicted.is_empty() && sticks.is_empty() {
+            let slips = t.predicted_slips(
+                &self.neighbours,
+                &per_element,
+                &obs.status,
+                symmetric && opts.front_prediction,
+            );
+            let trial = if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
                 None
             } else {
                 // the Newton step of the branch where the predicted points
-                // are open (and the reversed ones stick): its tangent and
-                // its residual
-                let forced = self.forced_branch(committed, &predicted, &sticks, t.damped_points());
+                // are open or slip (and the reversed ones stick): its
+                // tangent and its residual
+                let forced = self.forced_branch(
+                    committed,
+                    (&predicted, &sticks, &slips),
+                    t.damped_points(),
+                    &uf,
+                );
                 let (fcp, gp) = self.gamma_force(cx, &uf, &forced, &mut fc, true)?;
                 let gp = gp.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
                 let mut du = residual(&s_delta, &fcp, &cx.fixed);
@@ -590,25 +601,21 @@ impl StaticSolver<'_> {
                         let step =
                             self.gamma_line_search(cx, committed, &ray, (&du, &s_du), true)?;
                         let end = ray.at(&du, step);
-                        let open_at_end: Vec<bool> = self
-                            .statuses(&end, committed)
-                            .iter()
-                            .map(|s| s.0.0 == ContactStatus::Open)
-                            .collect();
-                        Some((du, s_du, step, open_at_end))
+                        let at_end: Vec<PointStatus> =
+                            self.statuses(&end, committed).iter().map(|s| s.0).collect();
+                        Some((du, s_du, step, at_end))
                     }
                     _ => None,
                 }
             };
+            let fronts = predicted.len() + slips.len();
             let (du, s_du, step) = match trial {
-                Some((du, s_du, step, open_at_end)) => {
-                    t.kept_prediction(predicted.len(), &open_at_end);
+                Some((du, s_du, step, at_end)) => {
+                    t.kept_prediction(fronts, &at_end);
                     (du, s_du, step)
                 }
                 None => {
-                    if !predicted.is_empty()
-                        && t.rejected_prediction(predicted.len(), opts.max_iterations)
-                    {
+                    if fronts > 0 && t.rejected_prediction(fronts, opts.max_iterations) {
                         break;
                     }
                     if !symmetric {

@@ -101,6 +101,75 @@ pub(super) fn predicted_openings(
     carry: &[usize],
 ) -> Vec<(Vec<usize>, usize)> {
     let open = |s: &PointStatus| s.0 == ContactStatus::Open;
+    let fronts = fronts_of(
+        neighbours,
+        per_element,
+        (before, now, carry),
+        |b, n| open(n) && !open(b),
+        |n| !open(n),
+    );
+    let closed = now.iter().filter(|s| !open(s)).count();
+    let total: usize = fronts.iter().map(|f| f.0.len()).sum();
+    if 2 * total > closed {
+        return Vec::new();
+    }
+    fronts
+}
+
+/// Flat point indices predicted to slip, per front, as
+/// [`predicted_openings`] does for openings: the elements with a point
+/// that went from stick to slip between `before` and `now` form the
+/// fronts, and each predicts the sticking points within its reach. Why:
+/// where a stick zone shrinks (the pass after an update of the frozen
+/// limits), an exact Newton step with the zone's points sticking loads
+/// the first sticking point past its limit, which slips in the next
+/// iterate, and the zone shrinks by one node per iteration (`t1e5` at
+/// μ = 1: 28 full steps in one pass, two points each). The prediction
+/// leaves at least one point sticking (a body held by friction alone
+/// would be free on the branch): where the reach would take them all, it
+/// is halved until it does not (none at reach 1).
+pub(super) fn predicted_slips(
+    neighbours: &[Vec<Vec<usize>>],
+    per_element: &[usize],
+    before: &[PointStatus],
+    now: &[PointStatus],
+    carry: &[usize],
+) -> Vec<(Vec<usize>, usize)> {
+    let stick = |s: &PointStatus| s.0 == ContactStatus::Stick;
+    let sticking = now.iter().filter(|s| stick(s)).count();
+    let mut carry = carry.to_vec();
+    loop {
+        let fronts = fronts_of(
+            neighbours,
+            per_element,
+            (before, now, &carry),
+            |b, n| n.0 == ContactStatus::Slip && stick(b),
+            stick,
+        );
+        let total: usize = fronts.iter().map(|f| f.0.len()).sum();
+        if total < sticking {
+            return fronts;
+        }
+        if carry.iter().all(|&c| c <= 1) {
+            return Vec::new();
+        }
+        // too far: the fronts look half as far ahead
+        for c in &mut carry {
+            *c /= 2;
+        }
+    }
+}
+
+/// The fronts of `seed` points (a status change between `before` and
+/// `now`) and the `eligible` points within their reach (see
+/// [`predicted_openings`]).
+fn fronts_of(
+    neighbours: &[Vec<Vec<usize>>],
+    per_element: &[usize],
+    (before, now, carry): (&[PointStatus], &[PointStatus], &[usize]),
+    seeds: impl Fn(&PointStatus, &PointStatus) -> bool,
+    eligible: impl Fn(&PointStatus) -> bool,
+) -> Vec<(Vec<usize>, usize)> {
     let mut fronts = Vec::new();
     let mut taken = vec![false; now.len()];
     let mut offset = 0;
@@ -108,7 +177,7 @@ pub(super) fn predicted_openings(
         let n_el = adj.len();
         let point = |e: usize, q: usize| offset + per * e + q;
         let seed: Vec<bool> = (0..n_el)
-            .map(|e| (0..per).any(|q| open(&now[point(e, q)]) && !open(&before[point(e, q)])))
+            .map(|e| (0..per).any(|q| seeds(&before[point(e, q)], &now[point(e, q)])))
             .collect();
         let mut run_of = vec![usize::MAX; n_el];
         for e0 in 0..n_el {
@@ -157,7 +226,7 @@ pub(super) fn predicted_openings(
             for (e, &d) in distance.iter().enumerate() {
                 if d <= reach {
                     for i in (0..per).map(|q| point(e, q)) {
-                        if !open(&now[i]) && !taken[i] {
+                        if eligible(&now[i]) && !taken[i] {
                             taken[i] = true;
                             points.push(i);
                         }
@@ -170,11 +239,6 @@ pub(super) fn predicted_openings(
         }
         offset += per * n_el;
     }
-    let closed = now.iter().filter(|s| !open(s)).count();
-    let total: usize = fronts.iter().map(|f| f.0.len()).sum();
-    if 2 * total > closed {
-        fronts.clear();
-    }
     fronts
 }
 
@@ -183,13 +247,16 @@ impl StaticSolver<'_> {
     /// whatever their jump (normal multiplier −∞: no contact traction, no
     /// contact stiffness) and the flat points `stick` stick whatever their
     /// shear (an unbounded frozen slip limit: traction k_s (Δu_t − g_s),
-    /// tangent k_s). Both lists sorted.
+    /// tangent k_s), and the flat points `slip` slip at the jump of `u` in
+    /// the direction of their shear there (their plastic slip moved to just
+    /// past the frozen limit: traction ±s, the slipping tangent; see
+    /// [`crate::Joint::slipping_state`]). All lists sorted.
     pub(super) fn forced_branch(
         &self,
         committed: &[PointStates],
-        open: &[usize],
-        stick: &[usize],
+        (open, stick, slip): (&[usize], &[usize], &[usize]),
         damped: Option<&[bool]>,
+        u: &[f64],
     ) -> Vec<PointStates> {
         let mut forced = match damped {
             // the secant slip tangent of the damped points, as in the
@@ -197,6 +264,25 @@ impl StaticSolver<'_> {
             Some(d) => self.with_secant_slip(committed, d),
             None => committed.to_vec(),
         };
+        if !slip.is_empty() {
+            // the predicted slipping points: their plastic slip moved to
+            // just past the limit at the iterate's jump
+            let outputs = self.point_outputs(u, committed);
+            let mut offset = 0;
+            let mut k = 0;
+            for &i in slip {
+                while i >= offset + forced[k].as_slice().len() {
+                    offset += forced[k].as_slice().len();
+                    k += 1;
+                }
+                let per = forced[k].per_element();
+                let local = i - offset;
+                let state = &mut forced[k].element_mut(local / per)[local % per];
+                if let Some(s) = self.laws[k].slipping_state(&outputs[k][local].jump, state) {
+                    *state = s;
+                }
+            }
+        }
         for (list, is_open) in [(open, true), (stick, false)] {
             let mut offset = 0;
             let mut k = 0;
@@ -296,5 +382,53 @@ mod tests {
             p,
             vec![(vec![6, 7, 8, 9], 2), (vec![12, 13, 15, 16, 17], 1)]
         );
+    }
+
+    #[test]
+    fn a_slip_front_predicts_the_sticking_points_ahead_and_leaves_one_sticking() {
+        // a chain of 10 elements, 2 points each: elements 0–2 slip, 3–9
+        // stick; element 3 went from stick to slip in the last step
+        let nodes: Vec<[usize; 4]> = (0..10).map(|i| [i, i + 1, 101 + i, 100 + i]).collect();
+        let adj = element_neighbours(&nodes);
+        let stick = (ContactStatus::Stick, 0);
+        let slip = (ContactStatus::Slip, 1);
+        let open = (ContactStatus::Open, 0);
+        let mut before = vec![stick; 20];
+        before[..6].fill(slip);
+        let mut now = before.clone();
+        now[6..8].fill(slip);
+        let one = std::slice::from_ref(&adj);
+        // reach 1: element 4; reach 2 carried: elements 4, 5
+        assert_eq!(
+            predicted_slips(one, &[2], &before, &now, &[]),
+            vec![(vec![8, 9], 1)]
+        );
+        let mut carry = vec![0; 20];
+        carry[6] = 2;
+        assert_eq!(
+            predicted_slips(one, &[2], &before, &now, &carry),
+            vec![(vec![8, 9, 10, 11], 2)]
+        );
+        // reach 8 would take all 12 sticking points (elements 4–9): halved
+        // to 4, elements 4–7, 8 points
+        carry[6] = 8;
+        assert_eq!(
+            predicted_slips(one, &[2], &before, &now, &carry),
+            vec![(vec![8, 9, 10, 11, 12, 13, 14, 15], 4)]
+        );
+        // an opening is no slip front, and open points are not predicted
+        let mut opened = before.clone();
+        opened[6..8].fill(open);
+        assert!(predicted_slips(one, &[2], &before, &opened, &[]).is_empty());
+        // a slip direction that reversed is no front either
+        let mut reversed = before.clone();
+        reversed[4] = (ContactStatus::Slip, -1);
+        assert!(predicted_slips(one, &[2], &before, &reversed, &[]).is_empty());
+        // one sticking element left: predicting it would free the body
+        let mut last = vec![slip; 20];
+        last[18..].fill(stick);
+        let mut last_before = last.clone();
+        last_before[16..18].fill(stick);
+        assert!(predicted_slips(one, &[2], &last_before, &last, &[]).is_empty());
     }
 }

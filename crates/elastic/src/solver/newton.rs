@@ -103,7 +103,13 @@ impl StaticSolver<'_> {
             } else {
                 Vec::new()
             };
-            let trial = if predicted.is_empty() && sticks.is_empty() {
+            let slips = t.predicted_slips(
+                &self.neighbours,
+                &per_element,
+                &obs.status,
+                symmetric && opts.front_prediction,
+            );
+            let trial = if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
                 None
             } else {
                 self.predicted_step(
@@ -112,20 +118,19 @@ impl StaticSolver<'_> {
                     &u,
                     &ku,
                     &r,
-                    (&predicted, &sticks, t.damped_points()),
+                    (&predicted, &sticks, &slips, t.damped_points()),
                     accept,
                 )?
             };
+            let fronts = predicted.len() + slips.len();
             let (du, du_rotated, known_step) = match trial {
                 Some(p) => {
-                    t.kept_prediction(predicted.len(), &p.open_at_end);
+                    t.kept_prediction(fronts, &p.at_end);
                     next_ku = Some(p.ku_end);
                     (p.du, p.du_rotated, Some(p.step))
                 }
                 None => {
-                    if !predicted.is_empty()
-                        && t.rejected_prediction(predicted.len(), opts.max_iterations)
-                    {
+                    if fronts > 0 && t.rejected_prediction(fronts, opts.max_iterations) {
                         break;
                     }
                     let solved = if !symmetric && self.coupled_tail {
@@ -303,8 +308,8 @@ pub(super) struct PredictedStep {
     du_rotated: Vec<f64>,
     /// The exact line search's step along it.
     step: f64,
-    /// Which flat points are open at the end of the step.
-    open_at_end: Vec<bool>,
+    /// The statuses of the flat points at the end of the step.
+    at_end: Vec<PointStatus>,
     /// The bulk force K u at the end of the step.
     ku_end: Vec<f64>,
 }
@@ -414,10 +419,10 @@ impl StaticSolver<'_> {
         u: &[f64],
         ku: &[f64],
         r: &[f64],
-        (predicted, sticks, damped): (&[usize], &[usize], Option<&[bool]>),
+        (predicted, sticks, slips, damped): (&[usize], &[usize], &[usize], Option<&[bool]>),
         accept: f64,
     ) -> Result<Option<PredictedStep>, ElasticError> {
-        let forced = self.forced_branch(committed, predicted, sticks, damped);
+        let forced = self.forced_branch(committed, (predicted, sticks, slips), damped, u);
         let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
         let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
         self.rotations.rotate_matrix(&mut kt);
@@ -442,17 +447,13 @@ impl StaticSolver<'_> {
         let step =
             self.energy_line_search(f_ext, committed, (u, ku), (&du, &kdu), &du_rotated, r)?;
         let end: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
-        let status = self.statuses(&end, committed);
-        let open_at_end = status
-            .iter()
-            .map(|s| s.0.0 == ContactStatus::Open)
-            .collect();
+        let at_end = self.statuses(&end, committed).iter().map(|s| s.0).collect();
         let ku_end = ku.iter().zip(&kdu).map(|(a, b)| a + step * b).collect();
         Ok(Some(PredictedStep {
             du,
             du_rotated,
             step,
-            open_at_end,
+            at_end,
             ku_end,
         }))
     }
