@@ -125,9 +125,9 @@ pub(super) fn predicted_openings(
 /// the first sticking point past its limit, which slips in the next
 /// iterate, and the zone shrinks by one node per iteration (`t1e5` at
 /// μ = 1: 28 full steps in one pass, two points each). The prediction
-/// leaves at least one point sticking (a body held by friction alone
-/// would be free on the branch): where the reach would take them all, it
-/// is halved until it does not (none at reach 1).
+/// leaves at least one point of every interface sticking (a body held by
+/// friction alone would be free on the branch): where the reach would
+/// take them all, it is halved until it does not (none at reach 1).
 pub(super) fn predicted_slips(
     neighbours: &[Vec<Vec<usize>>],
     per_element: &[usize],
@@ -136,28 +136,45 @@ pub(super) fn predicted_slips(
     carry: &[usize],
 ) -> Vec<(Vec<usize>, usize)> {
     let stick = |s: &PointStatus| s.0 == ContactStatus::Stick;
-    let sticking = now.iter().filter(|s| stick(s)).count();
-    let mut carry = carry.to_vec();
-    loop {
-        let fronts = fronts_of(
-            neighbours,
-            per_element,
-            (before, now, &carry),
-            |b, n| n.0 == ContactStatus::Slip && stick(b),
-            stick,
-        );
-        let total: usize = fronts.iter().map(|f| f.0.len()).sum();
-        if total < sticking {
-            return fronts;
+    let mut out = Vec::new();
+    let mut offset = 0;
+    // interface by interface: each keeps a sticking point (a full ring
+    // held by one interface turns freely when all of its points slip)
+    for (adj, &per) in neighbours.iter().zip(per_element) {
+        let range = offset..offset + per * adj.len();
+        let (b, n) = (&before[range.clone()], &now[range.clone()]);
+        let sticking = n.iter().filter(|s| stick(s)).count();
+        let mut c: Vec<usize> = (0..range.len())
+            .map(|i| carry.get(offset + i).copied().unwrap_or(0))
+            .collect();
+        loop {
+            let fronts = fronts_of(
+                std::slice::from_ref(adj),
+                &[per],
+                (b, n, &c),
+                |b, n| n.0 == ContactStatus::Slip && stick(b),
+                stick,
+            );
+            let total: usize = fronts.iter().map(|f| f.0.len()).sum();
+            if total < sticking {
+                out.extend(
+                    fronts
+                        .into_iter()
+                        .map(|(p, r)| (p.into_iter().map(|i| i + offset).collect(), r)),
+                );
+                break;
+            }
+            if c.iter().all(|&r| r <= 1) {
+                break;
+            }
+            // too far: the fronts look half as far ahead
+            for r in &mut c {
+                *r /= 2;
+            }
         }
-        if carry.iter().all(|&c| c <= 1) {
-            return Vec::new();
-        }
-        // too far: the fronts look half as far ahead
-        for c in &mut carry {
-            *c /= 2;
-        }
+        offset = range.end;
     }
+    out
 }
 
 /// The fronts of `seed` points (a status change between `before` and
