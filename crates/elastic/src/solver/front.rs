@@ -447,5 +447,18 @@ mod tests {
         let mut last_before = last.clone();
         last_before[16..18].fill(stick);
         assert!(predicted_slips(one, &[2], &last_before, &last, &[]).is_empty());
+        // interface by interface: the same last sticking element, followed
+        // by a second interface that sticks everywhere, is still kept
+        // sticking (its ring would turn on the first interface), while the
+        // second interface's own front is predicted, indices offset by 20
+        let two = [adj.clone(), adj.clone()];
+        let mut before2 = last_before.clone();
+        before2.extend(before.iter().copied());
+        let mut now2 = last.clone();
+        now2.extend(now.iter().copied());
+        assert_eq!(
+            predicted_slips(&two, &[2, 2], &before2, &now2, &[]),
+            vec![(vec![28, 29], 1)]
+        );
     }
 }
