@@ -285,41 +285,44 @@ impl StaticSolver<'_> {
             // the predicted slipping points: their plastic slip moved to
             // just past the limit at the iterate's jump
             let outputs = self.point_outputs(u, committed);
-            let mut offset = 0;
-            let mut k = 0;
-            for &i in slip {
-                while i >= offset + forced[k].as_slice().len() {
-                    offset += forced[k].as_slice().len();
-                    k += 1;
-                }
-                let per = forced[k].per_element();
-                let local = i - offset;
-                let state = &mut forced[k].element_mut(local / per)[local % per];
+            each_point(&mut forced, slip, |k, local, state| {
                 if let Some(s) = self.laws[k].slipping_state(&outputs[k][local].jump, state) {
                     *state = s;
                 }
-            }
+            });
         }
-        for (list, is_open) in [(open, true), (stick, false)] {
-            let mut offset = 0;
-            let mut k = 0;
-            for &i in list {
-                while i >= offset + forced[k].as_slice().len() {
-                    offset += forced[k].as_slice().len();
-                    k += 1;
-                }
-                let per = forced[k].per_element();
-                let local = i - offset;
-                let state = &mut forced[k].element_mut(local / per)[local % per];
-                if is_open {
-                    state.lambda_n = f64::NEG_INFINITY;
-                } else {
-                    // finite: 0 · ∞ would make a frictionless limit NaN
-                    state.friction_pressure = 1e300;
-                }
-            }
-        }
+        each_point(&mut forced, open, |_, _, state| {
+            state.lambda_n = f64::NEG_INFINITY;
+        });
+        each_point(&mut forced, stick, |_, _, state| {
+            // finite: 0 · ∞ would make a frictionless limit NaN
+            state.friction_pressure = 1e300;
+        });
         forced
+    }
+}
+
+/// Calls `f(interface, index within it, state)` for the flat points `list`
+/// (sorted, all interfaces, element-major) of `states`.
+fn each_point(
+    states: &mut [PointStates],
+    list: &[usize],
+    mut f: impl FnMut(usize, usize, &mut tecon_contact::JointState),
+) {
+    let mut offset = 0;
+    let mut k = 0;
+    for &i in list {
+        while i >= offset + states[k].as_slice().len() {
+            offset += states[k].as_slice().len();
+            k += 1;
+        }
+        let per = states[k].per_element();
+        let local = i - offset;
+        f(
+            k,
+            local,
+            &mut states[k].element_mut(local / per)[local % per],
+        );
     }
 }
 

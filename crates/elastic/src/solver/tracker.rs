@@ -224,25 +224,14 @@ impl PassTracker {
         status: &[PointStatus],
         enabled: bool,
     ) -> Vec<usize> {
-        let carry = std::mem::take(&mut self.carry);
-        self.fronts = match &self.prev {
-            Some(p) if enabled => {
-                let before: Vec<PointStatus> = p.iter().map(|s| s.0).collect();
-                front::predicted_openings(neighbours, per_element, &before, status, &carry)
-            }
-            _ => Vec::new(),
-        };
-        if self.fronts.is_empty() {
-            // no prediction made: the reach waits for the next opening
-            self.carry = carry;
-        }
-        let mut all: Vec<usize> = self
-            .fronts
-            .iter()
-            .flat_map(|f| f.0.iter().copied())
-            .collect();
-        all.sort_unstable();
-        all
+        predict_fronts(
+            &self.prev,
+            (&mut self.carry, &mut self.fronts),
+            enabled,
+            |before, carry| {
+                front::predicted_openings(neighbours, per_element, before, status, carry)
+            },
+        )
     }
 
     /// Sticking points predicted to slip ahead of the slip fronts (see
@@ -254,7 +243,6 @@ impl PassTracker {
         status: &[PointStatus],
         enabled: bool,
     ) -> Vec<usize> {
-        let carry = std::mem::take(&mut self.slip_carry);
         // Only after a full step, and in a long pass (the gate of the
         // stick predictions). Where the line search cuts the steps short,
         // the statuses change for other reasons (an opening front,
@@ -267,23 +255,12 @@ impl PassTracker {
         // (tens of iterations) reach the gate anyway.
         let n = self.history.len();
         let full = n >= 2 && self.history[n - 2].step == 1.0 && self.predicts_from_full_steps();
-        self.slip_fronts = match &self.prev {
-            Some(p) if enabled && full => {
-                let before: Vec<PointStatus> = p.iter().map(|s| s.0).collect();
-                front::predicted_slips(neighbours, per_element, &before, status, &carry)
-            }
-            _ => Vec::new(),
-        };
-        if self.slip_fronts.is_empty() {
-            self.slip_carry = carry;
-        }
-        let mut all: Vec<usize> = self
-            .slip_fronts
-            .iter()
-            .flat_map(|f| f.0.iter().copied())
-            .collect();
-        all.sort_unstable();
-        all
+        predict_fronts(
+            &self.prev,
+            (&mut self.slip_carry, &mut self.slip_fronts),
+            enabled && full,
+            |before, carry| front::predicted_slips(neighbours, per_element, before, status, carry),
+        )
     }
 
     /// The points tried as sticking in the next step (see `front`): the
@@ -432,6 +409,34 @@ impl PassTracker {
         self.prev = self.prev_pending.take();
         Ok(())
     }
+}
+
+/// Fronts from the statuses before the last step and now (`predict`,
+/// given those and the reach each point carries), stored in `fronts`;
+/// none before the first step or when not `enabled`. A prediction that
+/// makes no front keeps the carried reach for the next one. Returns the
+/// predicted points, sorted.
+fn predict_fronts(
+    prev: &Option<Vec<(PointStatus, f64)>>,
+    (carry, fronts): (&mut Vec<usize>, &mut Vec<(Vec<usize>, usize)>),
+    enabled: bool,
+    predict: impl FnOnce(&[PointStatus], &[usize]) -> Vec<(Vec<usize>, usize)>,
+) -> Vec<usize> {
+    let carried = std::mem::take(carry);
+    *fronts = match prev {
+        Some(p) if enabled => {
+            let before: Vec<PointStatus> = p.iter().map(|s| s.0).collect();
+            predict(&before, &carried)
+        }
+        _ => Vec::new(),
+    };
+    if fronts.is_empty() {
+        // no prediction made: the reach waits for the next front
+        *carry = carried;
+    }
+    let mut all: Vec<usize> = fronts.iter().flat_map(|f| f.0.iter().copied()).collect();
+    all.sort_unstable();
+    all
 }
 
 /// The reach each flat point carries into the next prediction: a front
