@@ -554,7 +554,7 @@ impl StaticSolver<'_> {
             // (as in the full pass, the predicted branches are tried on
             // symmetric tangents only)
             let symmetric = !coupled || obs.counts[2] == 0;
-            let predicted = t.predicted_openings(
+            let [predicted, sticks, slips] = t.predictions(
                 &self.neighbours,
                 &per_element,
                 &obs.status,
@@ -567,17 +567,7 @@ impl StaticSolver<'_> {
                 rb0: &rb0,
                 r: &r_g,
             };
-            let sticks = if symmetric && opts.front_prediction {
-                t.stick_predictions(&obs.status)
-            } else {
-                Vec::new()
-            };
-            let slips = t.predicted_slips(
-                &self.neighbours,
-                &per_element,
-                &obs.status,
-                symmetric && opts.front_prediction,
-            );
+
             let trial = if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
                 None
             } else {

@@ -92,18 +92,7 @@ impl StaticSolver<'_> {
                 }
             }
             let symmetric = obs.counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
-            let predicted = t.predicted_openings(
-                &self.neighbours,
-                &per_element,
-                &obs.status,
-                symmetric && opts.front_prediction,
-            );
-            let sticks = if symmetric && opts.front_prediction {
-                t.stick_predictions(&obs.status)
-            } else {
-                Vec::new()
-            };
-            let slips = t.predicted_slips(
+            let [predicted, sticks, slips] = t.predictions(
                 &self.neighbours,
                 &per_element,
                 &obs.status,

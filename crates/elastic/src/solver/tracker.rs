@@ -216,8 +216,30 @@ impl PassTracker {
         (self.damping && self.damped.iter().any(|&d| d)).then_some(&self.damped[..])
     }
 
+    /// The points the next step tries on its predicted branch (see
+    /// `front`): `[open, stick, slip]` — ahead of the opening fronts, the
+    /// reversed or full-step sticking points, ahead of the slip fronts.
+    /// None when not `enabled` (the predicted branches need a symmetric
+    /// tangent).
+    pub fn predictions(
+        &mut self,
+        neighbours: &[Vec<Vec<usize>>],
+        per_element: &[usize],
+        status: &[PointStatus],
+        enabled: bool,
+    ) -> [Vec<usize>; 3] {
+        let open = self.predicted_openings(neighbours, per_element, status, enabled);
+        let stick = if enabled {
+            self.stick_predictions(status)
+        } else {
+            Vec::new()
+        };
+        let slip = self.predicted_slips(neighbours, per_element, status, enabled);
+        [open, stick, slip]
+    }
+
     /// Points predicted open ahead of the fronts (see `front`).
-    pub fn predicted_openings(
+    fn predicted_openings(
         &mut self,
         neighbours: &[Vec<Vec<usize>>],
         per_element: &[usize],
@@ -236,7 +258,7 @@ impl PassTracker {
 
     /// Sticking points predicted to slip ahead of the slip fronts (see
     /// `front::predicted_slips`).
-    pub fn predicted_slips(
+    fn predicted_slips(
         &mut self,
         neighbours: &[Vec<Vec<usize>>],
         per_element: &[usize],
