@@ -31,10 +31,11 @@ pub struct IterationRecord {
     /// tolerance, where the exact value changes nothing) rather than the
     /// floor itself.
     pub floor_is_bound: bool,
-    /// Points the step assumed open ahead of an opening front or slipping
-    /// ahead of a slip front (see the solver's front prediction); 0 for an
-    /// exact Newton step.
-    pub predicted: usize,
+    /// Points the step assumed open (ahead of an opening front), sticking
+    /// (reversed slips, sticking at the end of a cut-short full step) and
+    /// slipping (ahead of a slip front): see the solver's predictions; all
+    /// 0 for an exact Newton step.
+    pub predicted: [usize; 3],
     /// True for a predicted step that was tried and discarded (a linear
     /// solve that did not move the iterate).
     pub rejected: bool,
@@ -60,11 +61,18 @@ impl std::fmt::Display for IterationRecord {
             self.status[2],
             self.changed
         )?;
-        if self.predicted > 0 {
+        let parts: Vec<String> = self
+            .predicted
+            .iter()
+            .zip(["open", "stick", "slip"])
+            .filter(|(n, _)| **n > 0)
+            .map(|(n, what)| format!("{n} to {what}"))
+            .collect();
+        if !parts.is_empty() {
             write!(
                 f,
-                ", {} predicted to open or slip{}",
-                self.predicted,
+                ", predicted {}{}",
+                parts.join(", "),
                 if self.rejected { " (rejected)" } else { "" }
             )?;
         }

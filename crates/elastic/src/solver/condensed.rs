@@ -599,13 +599,14 @@ impl StaticSolver<'_> {
                 }
             };
             let fronts = predicted.len() + slips.len();
+            let counts = [predicted.len(), sticks.len(), slips.len()];
             let (du, s_du, step) = match trial {
                 Some((du, s_du, step, at_end)) => {
-                    t.kept_prediction(fronts, &at_end);
+                    t.kept_prediction(counts, &at_end);
                     (du, s_du, step)
                 }
                 None => {
-                    if fronts > 0 && t.rejected_prediction(fronts, opts.max_iterations) {
+                    if fronts > 0 && t.rejected_prediction(counts, opts.max_iterations) {
                         break;
                     }
                     if !symmetric {

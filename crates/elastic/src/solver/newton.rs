@@ -112,14 +112,15 @@ impl StaticSolver<'_> {
                 )?
             };
             let fronts = predicted.len() + slips.len();
+            let counts = [predicted.len(), sticks.len(), slips.len()];
             let (du, du_rotated, known_step) = match trial {
                 Some(p) => {
-                    t.kept_prediction(fronts, &p.at_end);
+                    t.kept_prediction(counts, &p.at_end);
                     next_ku = Some(p.ku_end);
                     (p.du, p.du_rotated, Some(p.step))
                 }
                 None => {
-                    if fronts > 0 && t.rejected_prediction(fronts, opts.max_iterations) {
+                    if fronts > 0 && t.rejected_prediction(counts, opts.max_iterations) {
                         break;
                     }
                     let solved = if !symmetric && self.coupled_tail {
