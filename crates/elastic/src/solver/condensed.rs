@@ -803,11 +803,16 @@ impl StaticSolver<'_> {
         self.check_held(self.frozen_tangent(uf, committed)?)
     }
 
-    /// A condensed pass that failed (status ping-pong, stagnation, no
-    /// convergence) at `uf`: if a body is held by nothing there, that is
-    /// the error to report (the level-4 vessel under a vacuum ended in a
+    /// A pass that failed (status ping-pong, stagnation, no convergence,
+    /// a singular step) at `uf`: if a body is held by nothing there, that
+    /// is the error to report (the level-4 vessel under a vacuum ended in a
     /// ping-pong of a drifting layer); otherwise `e`.
-    fn floating_or(&self, e: ElasticError, uf: &[f64], committed: &[PointStates]) -> ElasticError {
+    pub(super) fn floating_or(
+        &self,
+        e: ElasticError,
+        uf: &[f64],
+        committed: &[PointStates],
+    ) -> ElasticError {
         match self.check_held_at(uf, committed) {
             Err(f @ ElasticError::Floating { .. }) => f,
             _ => e,

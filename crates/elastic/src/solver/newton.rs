@@ -158,7 +158,12 @@ impl StaticSolver<'_> {
                             self.rotations.rotate_matrix(&mut ks);
                             du.clone_from(&r);
                             self.prepared.apply_scaled(&mut ks, &mut du, 0.0);
-                            self.solve(&ks, &mut du, true, accept)?;
+                            if let Err(e) = self.solve(&ks, &mut du, true, accept) {
+                                // a body that every interface point holding
+                                // it has let go of: say so, not merely that
+                                // the system is singular
+                                return Err(self.floating_or(e, &u, committed));
+                            }
                         }
                         other => other?,
                     }
