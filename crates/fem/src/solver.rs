@@ -134,14 +134,16 @@ pub struct CholeskySolver {
 struct Permuted {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    source: Vec<usize>,
+    source: Vec<u32>,
 }
 
 impl Permuted {
-    /// None when the analysis has no permutation.
+    /// None when the analysis has no permutation (or the matrix has 2³²
+    /// entries or more: faer's own permutation then).
     fn new(pattern: &SparsityPattern, symbolic: &SymbolicCholesky<usize>) -> Option<Self> {
         use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
         let perm = symbolic.perm()?;
+        u32::try_from(pattern.indices().len()).ok()?;
         let n = pattern.n();
         let (ptr, idx) = (pattern.indptr(), pattern.indices());
         // the CSC view's lower triangle (see `factorise`)
@@ -171,7 +173,7 @@ impl Permuted {
             out_side,
             MemStack::new(&mut mem),
         );
-        let source = values.iter().map(|&v| v as usize).collect();
+        let source = values.iter().map(|&v| v as u32).collect();
         Some(Permuted {
             col_ptr,
             row_idx,
@@ -369,7 +371,7 @@ impl CholeskySolver {
             Some(q) => {
                 use faer::sparse::linalg::cholesky::{SymbolicCholeskyRaw, simplicial, supernodal};
                 let v = matrix.values();
-                let values: Vec<f64> = q.source.iter().map(|&k| v[k]).collect();
+                let values: Vec<f64> = q.source.iter().map(|&k| v[k as usize]).collect();
                 let n = self.pattern.n();
                 let a = SparseColMatRef::new(
                     SymbolicSparseColMatRef::new_unsorted_checked(
