@@ -255,8 +255,10 @@ impl StaticSolver<'_> {
         let mut tail: Option<Vec<Joint>> = None;
         let mut tail_tried = !(frozen_friction && self.options.coupled_tail);
         let mut tail_passes = Vec::new();
-        // the last converged pass was settled (no failed pass since)
+        // the last converged pass was settled (no failed pass since), and
+        // the statuses at the end of the last converged pass
         let mut previous_settled = false;
+        let mut last_end: Option<Vec<super::PointStatus>> = None;
         let mut u = self.u.clone();
         // (a condensed pass of an earlier attempt is not continued)
         self.pending = None;
@@ -302,6 +304,7 @@ impl StaticSolver<'_> {
                         frozen_friction = true;
                         exact_next = true;
                         previous_settled = false;
+                        last_end = None;
                         continue;
                     }
                     // A pass that fails after an update from an inexact pass
@@ -320,6 +323,7 @@ impl StaticSolver<'_> {
                         }
                         exact_next = true;
                         previous_settled = false;
+                        last_end = None;
                         continue;
                     }
                     // A pass after an outer update that fails: the update moved
@@ -344,6 +348,7 @@ impl StaticSolver<'_> {
                         relaxing = true;
                         outer_cuts += 1;
                         previous_settled = false;
+                        last_end = None;
                         continue;
                     }
                     // the failed pass comes with the passes before it
@@ -440,9 +445,19 @@ impl StaticSolver<'_> {
                 relax_friction(&start, &mut committed);
             }
             // A pass solved exactly whose statuses did not change after its
-            // first iterate: the outer updates are linear from here on, and
+            // first iterate, or that ended with the statuses the pass before
+            // it ended with: the outer updates are linear from here on, and
             // the coupled passes find their fixed point directly.
-            let settled = !inexact(&history) && history.iter().skip(1).all(|r| r.changed == 0);
+            let end: Option<Vec<super::PointStatus>> = (!tail_tried).then(|| {
+                self.statuses(&u, &start)
+                    .into_iter()
+                    .map(|(s, _)| s)
+                    .collect()
+            });
+            let same_end = end.is_some() && end == last_end;
+            last_end = end;
+            let settled =
+                !inexact(&history) && (history.iter().skip(1).all(|r| r.changed == 0) || same_end);
             if !tail_tried && settled && previous_settled {
                 tail = Some(self.enter_coupled_tail());
                 tail_tried = true;
