@@ -773,11 +773,11 @@ fn norm(v: &[f64]) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A 2D 5-point Laplacian on a k × k grid with a shift: SPD, n = k².
-    fn grid(k: usize) -> CsrMatrix {
+    pub(crate) fn grid(k: usize) -> CsrMatrix {
         let n = k * k;
         let mut pairs = Vec::new();
         for i in 0..k {

@@ -978,35 +978,11 @@ mod tests {
     /// dof.
     #[test]
     fn the_gathered_factorisation_is_faers_own_bit_for_bit() {
-        // a 2D grid Laplacian with a mass shift and unequal entries
+        // a 2D grid Laplacian with unequal diagonal entries
         let side = 30;
         let n = side * side;
-        let mut pairs = Vec::new();
-        for j in 0..side {
-            for i in 0..side {
-                let k = j * side + i;
-                if i + 1 < side {
-                    pairs.extend([k, k + 1]);
-                }
-                if j + 1 < side {
-                    pairs.extend([k, k + side]);
-                }
-            }
-        }
-        let pattern = std::sync::Arc::new(SparsityPattern::from_blocks(n, &[(2, &pairs)]).unwrap());
-        let mut a = CsrMatrix::zeros(pattern.clone());
-        for (e, q) in pairs.chunks(2).enumerate() {
-            let w = 1.0 + (e % 7) as f64 / 3.0;
-            for (r, c, v) in [
-                (q[0], q[0], w),
-                (q[1], q[1], w),
-                (q[0], q[1], -w),
-                (q[1], q[0], -w),
-            ] {
-                let s = a.pattern().slot(r, c).unwrap();
-                a.values_mut()[s] += v;
-            }
-        }
+        let mut a = crate::condensed::tests::grid(side);
+        let pattern = a.pattern().clone();
         for d in 0..n {
             let s = a.pattern().slot(d, d).unwrap();
             a.values_mut()[s] += 1e-2 * (1 + d % 3) as f64;
