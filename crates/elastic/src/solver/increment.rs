@@ -456,9 +456,12 @@ impl StaticSolver<'_> {
             });
             let same_end = end.is_some() && end == last_end;
             last_end = end;
-            let settled =
-                !inexact(&history) && (history.iter().skip(1).all(|r| r.changed == 0) || same_end);
-            if !tail_tried && settled && previous_settled {
+            let quiet = history.iter().skip(1).all(|r| r.changed == 0);
+            let settled = !inexact(&history) && (quiet || same_end);
+            // two settled passes in a row, or one that is settled both
+            // ways: quiet after its first iterate and ending with the
+            // statuses the pass before it ended with
+            if !tail_tried && settled && (previous_settled || (quiet && same_end)) {
                 tail = Some(self.enter_coupled_tail());
                 tail_tried = true;
                 frozen_friction = false;
