@@ -253,7 +253,11 @@ impl StaticSolver<'_> {
         // the frozen laws while the coupled tail runs, whether it was tried,
         // and its passes
         let mut tail: Option<Vec<Joint>> = None;
-        let mut tail_tried = !(frozen_friction && self.options.coupled_tail);
+        // (not in a solve whose outer loop may stop at a floor, between
+        // the output times of a two-way run: at that tolerance the tail's
+        // non-symmetric steps cost more than the frozen passes they save)
+        let mut tail_tried =
+            !(frozen_friction && self.options.coupled_tail) || self.outer_floor > 0.0;
         let mut tail_passes = Vec::new();
         // the last converged pass was settled (no failed pass since), and
         // the statuses at the end of the last converged pass
