@@ -321,6 +321,45 @@ impl CondensedCholesky {
         self.schur_mul(gg, x)
     }
 
+    /// x ← S⁻¹ x by a dense partial-pivoting LU (faer) of S = A_ΓΓ − C,
+    /// A_ΓΓ given as `gg` (values in [`CondensedCholesky::gamma_entries`]
+    /// order, symmetric or not). The direct fall-back of the iterative
+    /// solves of a non-symmetric Schur system: O(m³), made afresh at
+    /// every call, nothing kept.
+    pub fn solve_schur_lu(&self, gg: &[f64], x: &mut [f64]) -> Result<(), FemError> {
+        use faer::prelude::Solve;
+        if self.constant_base.is_none() {
+            return Err(FemError::NotFactorised);
+        }
+        let m = self.gamma.len();
+        if x.len() != m || gg.len() != self.gg_col.len() {
+            return Err(FemError::LengthMismatch {
+                what: "dense Schur solve".into(),
+                got: x.len(),
+                expected: m,
+            });
+        }
+        // C is exactly symmetric: row or column order alike
+        let mut s = faer::Mat::<f64>::from_fn(m, m, |i, j| -self.c[i * m + j]);
+        for a in 0..m {
+            for k in self.gg_ptr[a]..self.gg_ptr[a + 1] {
+                s[(a, self.gg_col[k])] += gg[k];
+            }
+        }
+        let rhs = faer::Mat::<f64>::from_fn(m, 1, |i, _| x[i]);
+        let y = s.partial_piv_lu().solve(&rhs);
+        for (i, v) in x.iter_mut().enumerate() {
+            *v = y[(i, 0)];
+        }
+        if x.iter().all(|v| v.is_finite()) {
+            Ok(())
+        } else {
+            Err(FemError::Solver(
+                "the dense LU of the Schur system is singular".into(),
+            ))
+        }
+    }
+
     /// x ← A_II⁻¹ x for a vector over I.
     pub fn solve_interior(&self, x: &mut [f64]) -> Result<(), FemError> {
         let leading = self.leading.as_ref().ok_or(FemError::NotFactorised)?;
@@ -828,6 +867,48 @@ pub(crate) mod tests {
             .zip(y)
             .map(|(p, q)| (p - q).abs())
             .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn the_dense_lu_solves_a_non_symmetric_schur_system() {
+        let k = 12;
+        let a = grid(k);
+        let gamma: Vec<usize> = (0..k).map(|j| (k / 2) * k + j).collect();
+        let mut s = CondensedCholesky::analyse(a.pattern().clone(), &gamma, 4).unwrap();
+        let mut x = vec![1.0; k];
+        // nothing condensed yet
+        assert!(matches!(
+            s.solve_schur_lu(&[], &mut x),
+            Err(FemError::NotFactorised)
+        ));
+        assert!(s.prepare(&a).unwrap());
+        let (ptr, col, slot) = s.gamma_entries();
+        let gg0: Vec<f64> = slot.iter().map(|&q| a.values()[q]).collect();
+        // a non-symmetric change on Γ (like the coupled friction term)
+        let mut gg = gg0.clone();
+        for r in 0..k {
+            for q in ptr[r]..ptr[r + 1] {
+                if col[q] == r + 1 {
+                    gg[q] += 0.7;
+                }
+            }
+        }
+        let b: Vec<f64> = (0..k).map(|i| (i as f64).sin() + 0.5).collect();
+        let mut x = b.clone();
+        s.solve_schur_lu(&gg, &mut x).unwrap();
+        let err = max_err(&s.mul_schur(&gg, &x), &b);
+        assert!(err < 1e-12, "{err:e}");
+        // on the symmetric system it agrees with the Cholesky Schur solve
+        let mut x_lu = b.clone();
+        s.solve_schur_lu(&gg0, &mut x_lu).unwrap();
+        let mut x_ch = b.clone();
+        s.solve_schur(&gg0, &mut x_ch, 0.0).unwrap();
+        assert!(max_err(&x_lu, &x_ch) < 1e-12, "{:e}", max_err(&x_lu, &x_ch));
+        let mut short = vec![0.0; k - 1];
+        assert!(matches!(
+            s.solve_schur_lu(&gg, &mut short),
+            Err(FemError::LengthMismatch { .. })
+        ));
     }
 
     #[test]

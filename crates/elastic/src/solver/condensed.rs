@@ -638,16 +638,14 @@ impl StaticSolver<'_> {
                                 return Ok(Outcome::FullPass);
                             }
                             Err(e) => return Err(e),
-                            // the pass fails, and the frozen passes take
-                            // the increment up again (see `increment`)
+                            // GMRES did not converge (the frozen tangent
+                            // at the current statuses is a poor
+                            // preconditioner after many status changes):
+                            // the dense LU of the coupled Schur system
                             Ok(None) => {
-                                return Err(super::tracker::failure(
-                                    format!(
-                                        "GMRES on the coupled tangent did not converge in {} iterations",
-                                        super::gmres::MAX_ITERATIONS
-                                    ),
-                                    t.history,
-                                ));
+                                let mut du = r_g.clone();
+                                cx.chol.solve_schur_lu(&gg, &mut du)?;
+                                du
                             }
                         };
                         let s_du = cx.chol.mul_schur(&cx.bulk_gg, &du);

@@ -214,8 +214,9 @@ impl StaticSolver<'_> {
     /// constrained) in the coupled tail of the outer loop by GMRES,
     /// preconditioned with the sparse Cholesky factor of the frozen limits'
     /// tangent at the same statuses (the limits set to the current
-    /// pressures at `u`): see `gmres`. A solve that does not converge fails
-    /// the pass (the frozen passes take the increment up again).
+    /// pressures at `u`): see `gmres`. Where GMRES does not converge (many
+    /// statuses changed since the preconditioner's), the sparse LU of the
+    /// coupled tangent solves the step.
     fn coupled_tail_solve(
         &mut self,
         kt: &CsrMatrix,
@@ -251,13 +252,8 @@ impl StaticSolver<'_> {
                 rhs.copy_from_slice(&x);
                 Ok(())
             }
-            Ok(None) => Err(failure(
-                format!(
-                    "GMRES on the coupled tangent did not converge in {} iterations",
-                    super::gmres::MAX_ITERATIONS
-                ),
-                Vec::new(),
-            )),
+            // GMRES did not converge: the sparse LU of the coupled tangent
+            Ok(None) => self.solve(kt, rhs, false, accept),
             Err(e) => Err(failure(format!("coupled step: {e}"), Vec::new())),
         }
     }
