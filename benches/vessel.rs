@@ -65,8 +65,8 @@ fn vessel(c: &mut Criterion) {
 /// One-way against staggered two-way coupling with the contact conductance
 /// (`--conductance contact --coupling two-way`): paper mesh, level 2
 /// (linear; the default mesh when the goal of issue 13, two-way at most 5×
-/// one-way, was set) and the default g0 (order 2; about 10 s per two-way
-/// run on 2026-11-29, so this group takes a few minutes).
+/// one-way, was set) and the default g0 (order 2; about 2.4 s per two-way
+/// run on 2026-11-30, so this group takes a few minutes).
 /// Before measuring, one run of each prints its Newton iterations, solves,
 /// contact solves and times.
 fn vessel_two_way(c: &mut Criterion) {
