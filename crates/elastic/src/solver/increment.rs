@@ -522,6 +522,7 @@ impl StaticSolver<'_> {
             // one coupled pass early at high friction (see
             // `early_coupled_pass`), once per increment
             let early = !early_tried
+                && self.options.early_coupled_pass
                 && !tail_tried
                 && frozen_friction
                 && end.as_ref().is_some_and(|e| self.early_coupled_pass(e));

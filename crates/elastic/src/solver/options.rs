@@ -162,8 +162,18 @@ pub struct SolverOptions {
     /// does not converge within [`COUPLED_TAIL_MAX_ITERATIONS`] hands the
     /// increment back to the frozen passes. The converged answer is the
     /// same either way (to the outer loop's tolerance); only the path
-    /// changes.
+    /// changes. False also turns off [`SolverOptions::early_coupled_pass`].
     pub coupled_tail: bool,
+    /// With [`SolverOptions::coupled_tail`]: at a friction coefficient of
+    /// at least 1, one coupled pass early in the increment, once a frozen
+    /// pass ends with at most a quarter of its closed points sticking; the
+    /// frozen passes then go on from its pressures (the same fixed point).
+    /// Measured on the vessel's high-friction runs (docs/vessel.md §6):
+    /// level 4 at μ = 2 216 → 40 Newton iterations in one increment; where
+    /// the coupled pass does not converge its 20 iterations are lost (the
+    /// two-ring test of the coupled tail, μ = 1: 47 iterations against 23
+    /// without it).
+    pub early_coupled_pass: bool,
     /// Inexact passes under frozen friction limits: a Newton pass that an
     /// outer update will follow may stop once its residual is below this ×
     /// the residual it started from, statuses still changing (points near
@@ -195,6 +205,7 @@ impl Default for SolverOptions {
             coarse_space: true,
             coarse_levels: COARSE_LEVELS,
             coupled_tail: true,
+            early_coupled_pass: true,
             pass_forcing: PASS_FORCING,
         }
     }
