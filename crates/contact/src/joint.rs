@@ -4,7 +4,7 @@
 
 use crate::error::{LawError, finite, positive};
 use crate::law::{Augmentation, ContactLaw, ContactStatus, LawResponse};
-use crate::normal::{GhaboussiNormal, NormalLaw, NormalStage, default_penalty};
+use crate::normal::{GhaboussiNormal, NormalLaw, NormalResponse, NormalStage, default_penalty};
 use nalgebra::{Matrix2, Vector2};
 
 /// History state of one integration point of a [`MohrCoulomb`] or
@@ -32,6 +32,12 @@ pub struct JointState {
     /// tangent, at points whose stick/slip status oscillates between
     /// Newton iterates.
     pub secant_slip: bool,
+    /// Newton prediction hook, never committed: when true, the normal law
+    /// takes its contact branch whatever the jump (continued into tension
+    /// where the faces are apart; [`NormalLaw::normal_closed`]). A solver
+    /// sets it on a copy of the committed states, used for a predicted
+    /// Newton step only.
+    pub forced_closed: bool,
 }
 
 /// Relative distance from the slip limit within which a slipping point of a
@@ -59,6 +65,17 @@ pub enum FrictionBound {
     /// pressure equals the contact pressure and the answer is the
     /// Mohr–Coulomb one.
     Frozen,
+}
+
+/// The normal response at `du_n` for the state `st` (its contact branch
+/// when [`JointState::forced_closed`]).
+#[inline]
+fn normal_of<N: NormalLaw>(normal: &N, du_n: f64, st: &JointState) -> NormalResponse {
+    if st.forced_closed {
+        normal.normal_closed(du_n, st.lambda_n)
+    } else {
+        normal.normal(du_n, st.lambda_n)
+    }
 }
 
 /// Shared augmented-Lagrangian update of a joint with normal law `N`.
@@ -114,7 +131,7 @@ impl<N: NormalLaw> ContactLaw for ElasticJoint<N> {
 
     #[inline]
     fn evaluate(&self, jump: &Vector2<f64>, committed: &JointState) -> LawResponse<JointState> {
-        let nr = self.normal.normal(jump.y, committed.lambda_n);
+        let nr = normal_of(&self.normal, jump.y, committed);
         let (tau, k_s, status) = if nr.stage == NormalStage::Separation {
             (0.0, 0.0, ContactStatus::Open)
         } else {
@@ -271,7 +288,7 @@ impl<N: NormalLaw> MohrCoulomb<N> {
         if self.bound != FrictionBound::Frozen {
             return None;
         }
-        let nr = self.normal.normal(jump.y, committed.lambda_n);
+        let nr = normal_of(&self.normal, jump.y, committed);
         if nr.stage == NormalStage::Separation {
             return None;
         }
@@ -327,7 +344,7 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
 
     #[inline]
     fn evaluate(&self, jump: &Vector2<f64>, committed: &JointState) -> LawResponse<JointState> {
-        let nr = self.normal.normal(jump.y, committed.lambda_n);
+        let nr = normal_of(&self.normal, jump.y, committed);
         let k_n = nr.stiffness;
         if nr.stage == NormalStage::Separation {
             // Frozen limit with a stored pressure: the friction part of the

@@ -39,6 +39,14 @@ pub trait NormalLaw: Clone + Debug + Send + Sync {
     /// multiplier `lambda`.
     fn normal(&self, du_n: f64, lambda: f64) -> NormalResponse;
 
+    /// The response on the contact branch whatever `du_n` (continued into
+    /// tension where the faces are apart): the branch a Newton prediction
+    /// tries for a point it expects to close. The default is
+    /// [`NormalLaw::normal`] (a law without a separation branch).
+    fn normal_closed(&self, du_n: f64, lambda: f64) -> NormalResponse {
+        self.normal(du_n, lambda)
+    }
+
     /// Multiplier after an augmented-Lagrangian update from the converged
     /// `du_n` (the default keeps `lambda`: pure penalty).
     fn updated_multiplier(&self, du_n: f64, lambda: f64) -> f64 {
@@ -218,6 +226,21 @@ impl NormalLaw for GhaboussiNormal {
     #[inline]
     fn updated_multiplier(&self, du_n: f64, lambda: f64) -> f64 {
         (lambda - self.k_contact * (du_n - self.closure)).max(0.0)
+    }
+
+    fn normal_closed(&self, du_n: f64, lambda: f64) -> NormalResponse {
+        let crushing = du_n <= 0.0 && du_n > self.closure;
+        let p_crush = self.k_crush * (-du_n).clamp(0.0, -self.closure);
+        let p_trial = lambda - self.k_contact * (du_n - self.closure);
+        let mut stiffness = self.k_contact;
+        if crushing {
+            stiffness += self.k_crush;
+        }
+        NormalResponse {
+            sigma: -(p_crush + p_trial),
+            stiffness,
+            stage: NormalStage::Contact,
+        }
     }
 }
 

@@ -879,3 +879,46 @@ fn frozen_limit_keeps_its_friction_part_while_opening() {
     let coupled = friction_law(c, phi);
     assert_eq!(coupled.evaluate(&j_slip, &st).traction, Vector2::zeros());
 }
+
+/// The contact branch continued into tension (`normal_closed`, the branch a
+/// Newton prediction tries for a point it expects to close): equal to the
+/// law wherever the law is in contact, and beyond the closure the linear
+/// continuation of the contact branch (a tensile traction with the contact
+/// stiffness), where the law itself is separated.
+#[test]
+fn the_closed_branch_continues_the_contact_branch_into_tension() {
+    for law in [
+        GhaboussiNormal::smooth(2.0e11, 1.0e-3).unwrap(),
+        rough_ghaboussi(),
+    ] {
+        let lambda = 3.0e5;
+        // where the contact spring acts (beyond the crushing range of the
+        // rough law): the same response
+        let mut compared = 0;
+        for du_n in [-3.0e-3, -2.0e-3, -2.0e-6, -5.0e-7, -1.0e-9] {
+            let (a, b) = (law.normal(du_n, lambda), law.normal_closed(du_n, lambda));
+            if a.stage != NormalStage::Contact {
+                continue;
+            }
+            compared += 1;
+            assert_relative_eq!(a.sigma, b.sigma, max_relative = 1e-12);
+            assert_relative_eq!(a.stiffness, b.stiffness, max_relative = 1e-12);
+        }
+        assert!(compared >= 2, "{compared} points in contact");
+        // far apart: the law is separated, the closed branch in tension
+        let du_n = 1.0e-3;
+        let a = law.normal(du_n, lambda);
+        let b = law.normal_closed(du_n, lambda);
+        assert_eq!(a.stage, NormalStage::Separation);
+        assert_eq!(a.sigma, 0.0);
+        assert_eq!(b.stage, NormalStage::Contact);
+        assert!(b.sigma > 0.0, "tension expected: {}", b.sigma);
+        assert_relative_eq!(b.stiffness, law.contact_stiffness(), max_relative = 1e-12);
+        // linear there: the tangent is the difference quotient
+        let h = 1.0e-7;
+        let fd = (law.normal_closed(du_n + h, lambda).sigma
+            - law.normal_closed(du_n - h, lambda).sigma)
+            / (2.0 * h);
+        assert_relative_eq!(fd, b.stiffness, max_relative = 1e-6);
+    }
+}

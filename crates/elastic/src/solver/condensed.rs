@@ -34,6 +34,7 @@ use tecon_fem::{CondensedCholesky, FemError};
 use crate::error::{ElasticError, IterationRecord};
 
 use super::coarse::{COARSE_GATE, COARSE_MAX_ITERATIONS, COARSE_TOLERANCE, CoarseSpace};
+use super::front::COUPLED_PREDICTION_REACH;
 use super::line_search::{backtrack, root_along_ray};
 use super::newton::ROUND_OFF_FACTOR;
 use super::tracker::PassTracker;
@@ -452,6 +453,10 @@ impl StaticSolver<'_> {
         };
         let mut fc = vec![0.0; n];
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
+        // coupled passes: the points whose contact the last cut-short step
+        // changes a little further along its ray (see
+        // `front::COUPLED_PREDICTION_REACH`): (to close, to open)
+        let mut contact_next: (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
         let mut uf = u.clone();
         for (a, &d) in gamma.iter().enumerate() {
             uf[d] = u[d] + delta[a];
@@ -568,7 +573,40 @@ impl StaticSolver<'_> {
                 r: &r_g,
             };
 
-            let trial = if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
+            // A coupled step cut short where points open or close (the
+            // residual line search stops a few points into a closing or
+            // opening front, which then moves two points per step): the
+            // next step tries those points closed or open, as the primal-
+            // dual active set would (the forced branch's tangent, solved
+            // by the dense LU of the Schur system, and the same line search)
+            let (closing, opening) = std::mem::take(&mut contact_next);
+            let closing: Vec<usize> = closing
+                .into_iter()
+                .filter(|&i| obs.status[i].0 == ContactStatus::Open)
+                .collect();
+            let opening: Vec<usize> = opening
+                .into_iter()
+                .filter(|&i| obs.status[i].0 != ContactStatus::Open)
+                .collect();
+            let trial = if !(symmetric || closing.is_empty() && opening.is_empty()) {
+                let mut forced = self.forced_branch(committed, (&opening, &[], &[]), None, &uf);
+                self.force_closed(&mut forced, &closing);
+                let (fcp, gp) = self.gamma_force(cx, &uf, &forced, &mut fc, true)?;
+                let gp = gp.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+                let mut du = residual(&s_delta, &fcp, &cx.fixed);
+                cx.chol.solve_schur_lu(&gp, &mut du)?;
+                let s_du = cx.chol.mul_schur(&cx.bulk_gg, &du);
+                let step = self.gamma_line_search(cx, committed, &ray, (&du, &s_du), false)?;
+                if step < 1.0 {
+                    let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
+                    contact_next =
+                        self.contact_changes(&ray.at(&du, reach), committed, &obs.status);
+                }
+                let end = ray.at(&du, step);
+                let at_end: Vec<PointStatus> =
+                    self.statuses(&end, committed).iter().map(|s| s.0).collect();
+                Some((du, s_du, step, at_end))
+            } else if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
                 None
             } else {
                 // the Newton step of the branch where the predicted points
@@ -651,6 +689,11 @@ impl StaticSolver<'_> {
                         let s_du = cx.chol.mul_schur(&cx.bulk_gg, &du);
                         let step =
                             self.gamma_line_search(cx, committed, &ray, (&du, &s_du), false)?;
+                        if step < 1.0 {
+                            let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
+                            contact_next =
+                                self.contact_changes(&ray.at(&du, reach), committed, &obs.status);
+                        }
                         (du, s_du, step)
                     } else {
                         let mut du = r_g.clone();

@@ -302,6 +302,48 @@ impl StaticSolver<'_> {
     }
 }
 
+/// How far along a cut-short coupled step the statuses for the next step
+/// are read, as a multiple of the step taken (at most the full step): the
+/// open points that are closed there are tried closed in the next step,
+/// the closed ones that are open there are tried open. Measured (session
+/// 41, the 30 high-friction runs of docs/vessel.md §10): at the full step
+/// a closing front overshot (level 4 at μ = 2: 59 points closed at once,
+/// then reopened two per step, 16 iterations in that pass), at 4× the
+/// step it lands (12); 2× gave the same on level 4 and worse on level 2.
+pub(super) const COUPLED_PREDICTION_REACH: f64 = 4.0;
+
+impl StaticSolver<'_> {
+    /// Marks the flat points `list` (sorted) of `states` to take their
+    /// normal law's contact branch whatever the jump (a predicted step).
+    pub(super) fn force_closed(&self, states: &mut [PointStates], list: &[usize]) {
+        each_point(states, list, |_, _, state| state.forced_closed = true);
+    }
+
+    /// The flat points whose contact changes between the statuses `now` and
+    /// those at `trial`: (open now and closed there, closed now and open
+    /// there).
+    pub(super) fn contact_changes(
+        &self,
+        trial: &[f64],
+        committed: &[PointStates],
+        now: &[PointStatus],
+    ) -> (Vec<usize>, Vec<usize>) {
+        let (mut close, mut open) = (Vec::new(), Vec::new());
+        for (i, (there, here)) in self.statuses(trial, committed).iter().zip(now).enumerate() {
+            let (o_here, o_there) = (
+                here.0 == ContactStatus::Open,
+                there.0.0 == ContactStatus::Open,
+            );
+            if o_here && !o_there {
+                close.push(i);
+            } else if !o_here && o_there {
+                open.push(i);
+            }
+        }
+        (close, open)
+    }
+}
+
 /// Calls `f(interface, index within it, state)` for the flat points `list`
 /// (sorted, all interfaces, element-major) of `states`.
 fn each_point(

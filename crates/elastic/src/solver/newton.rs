@@ -5,6 +5,7 @@ use tecon_fem::FemError;
 
 use crate::error::{ElasticError, IterationRecord};
 
+use super::front::COUPLED_PREDICTION_REACH;
 use super::tracker::{PassTracker, failure};
 use super::*;
 
@@ -21,6 +22,10 @@ impl StaticSolver<'_> {
         let opts = self.options;
         let mut t = PassTracker::new(norm(f_ext), pass).with_forcing(self.pass_forcing);
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
+        // coupled tail passes: the points whose contact the last cut-short
+        // step changes a little further along its ray (see
+        // `front::COUPLED_PREDICTION_REACH`): (to close, to open)
+        let mut contact_next: (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
         // K u of the next iterate, when the line search has it already
         let mut next_ku: Option<Vec<f64>> = None;
         while t.history.len() < opts.max_iterations {
@@ -98,19 +103,41 @@ impl StaticSolver<'_> {
                 &obs.status,
                 symmetric && opts.front_prediction,
             );
-            let trial = if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
-                None
-            } else {
-                self.predicted_step(
-                    f_ext,
-                    committed,
-                    &u,
-                    &ku,
-                    &r,
-                    (&predicted, &sticks, &slips, t.damped_points()),
-                    accept,
-                )?
-            };
+            // (a coupled step of the tail cut short where points open or
+            // close: the next step tries them so, as in the condensed pass)
+            let (closing, opening) = std::mem::take(&mut contact_next);
+            let closing: Vec<usize> = closing
+                .into_iter()
+                .filter(|&i| obs.status[i].0 == ContactStatus::Open)
+                .collect();
+            let opening: Vec<usize> = opening
+                .into_iter()
+                .filter(|&i| obs.status[i].0 != ContactStatus::Open)
+                .collect();
+            let trial =
+                if !symmetric && self.coupled_tail && !(closing.is_empty() && opening.is_empty()) {
+                    self.coupled_predicted_step(
+                        f_ext,
+                        committed,
+                        (&u, &ku, &r),
+                        (&closing, &opening),
+                        &obs.status,
+                        accept,
+                        &mut contact_next,
+                    )?
+                } else if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
+                    None
+                } else {
+                    self.predicted_step(
+                        f_ext,
+                        committed,
+                        &u,
+                        &ku,
+                        &r,
+                        (&predicted, &sticks, &slips, t.damped_points()),
+                        accept,
+                    )?
+                };
             let fronts = predicted.len() + slips.len();
             let counts = [predicted.len(), sticks.len(), slips.len()];
             let (du, du_rotated, known_step) = match trial {
@@ -189,7 +216,13 @@ impl StaticSolver<'_> {
                 next_ku = Some(ku.iter().zip(&kdu).map(|(a, b)| a + step * b).collect());
                 step
             } else {
-                self.residual_line_search(f_ext, committed, &u, &du, &r)?
+                let step = self.residual_line_search(f_ext, committed, &u, &du, &r)?;
+                if step < 1.0 && self.coupled_tail {
+                    let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
+                    let ahead: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + reach * d).collect();
+                    contact_next = self.contact_changes(&ahead, committed, &obs.status);
+                }
+                step
             };
             if symmetric && opts.front_prediction && step < 1.0 && t.predicts_from_full_steps() {
                 let full: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + b).collect();
@@ -394,6 +427,56 @@ impl StaticSolver<'_> {
 }
 
 impl StaticSolver<'_> {
+    /// A coupled tail step on the branch where the points `closing` are
+    /// closed and `opening` open (see `front::COUPLED_PREDICTION_REACH`):
+    /// the coupled tangent there, solved as the tail's steps are, and the
+    /// residual line search on the true laws; `next` gets the points whose
+    /// contact changes a little further along it if it is cut short. None
+    /// if the step cannot be solved (the exact step is taken instead).
+    #[allow(clippy::too_many_arguments)]
+    fn coupled_predicted_step(
+        &mut self,
+        f_ext: &[f64],
+        committed: &[PointStates],
+        (u, ku, r): (&[f64], &[f64], &[f64]),
+        (closing, opening): (&[usize], &[usize]),
+        now: &[PointStatus],
+        accept: f64,
+        next: &mut (Vec<usize>, Vec<usize>),
+    ) -> Result<Option<PredictedStep>, ElasticError> {
+        let mut forced = self.forced_branch(committed, (opening, &[], &[]), None, u);
+        self.force_closed(&mut forced, closing);
+        let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
+        let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
+        self.rotations.rotate_matrix(&mut kt);
+        let mut du = self.residual(f_ext, &f_int);
+        self.prepared.apply_scaled(&mut kt, &mut du, 0.0);
+        let solved = self.coupled_tail_solve(&kt, &mut du, (u, committed), accept);
+        self.recycle(kt);
+        if solved.is_err() {
+            return Ok(None);
+        }
+        let du_rotated = du.clone();
+        self.rotations.unrotate_vector(&mut du);
+        let step = self.residual_line_search(f_ext, committed, u, &du, r)?;
+        if step < 1.0 {
+            let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
+            let ahead: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + reach * d).collect();
+            *next = self.contact_changes(&ahead, committed, now);
+        }
+        let end: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + step * d).collect();
+        let at_end = self.statuses(&end, committed).iter().map(|s| s.0).collect();
+        let kdu = self.bulk_force(&du);
+        let ku_end = ku.iter().zip(&kdu).map(|(a, b)| a + step * b).collect();
+        Ok(Some(PredictedStep {
+            du,
+            du_rotated,
+            step,
+            at_end,
+            ku_end,
+        }))
+    }
+
     /// The Newton step from `u` on the branch where the flat points
     /// `predicted` are open (see `front`), if it is a descent direction of
     /// the exact energy (`r` is the exact residual at `u`, rotated frame;
