@@ -579,15 +579,8 @@ impl StaticSolver<'_> {
             // next step tries those points closed or open, as the primal-
             // dual active set would (the forced branch's tangent, solved
             // by the dense LU of the Schur system, and the same line search)
-            let (closing, opening) = std::mem::take(&mut contact_next);
-            let closing: Vec<usize> = closing
-                .into_iter()
-                .filter(|&i| obs.status[i].0 == ContactStatus::Open)
-                .collect();
-            let opening: Vec<usize> = opening
-                .into_iter()
-                .filter(|&i| obs.status[i].0 != ContactStatus::Open)
-                .collect();
+            let (closing, opening) =
+                Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
             let trial = if !(symmetric || closing.is_empty() && opening.is_empty()) {
                 let mut forced = self.forced_branch(committed, (&opening, &[], &[]), None, &uf);
                 self.force_closed(&mut forced, &closing);

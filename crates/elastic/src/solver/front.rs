@@ -319,6 +319,20 @@ impl StaticSolver<'_> {
         each_point(states, list, |_, _, state| state.forced_closed = true);
     }
 
+    /// Of the points `(close, open)` that a cut-short coupled step
+    /// predicted, those still open (to close) and still closed (to open)
+    /// at the statuses `now`.
+    pub(super) fn still_to_change(
+        (close, open): (Vec<usize>, Vec<usize>),
+        now: &[PointStatus],
+    ) -> (Vec<usize>, Vec<usize>) {
+        let is_open = |i: &usize| now[*i].0 == ContactStatus::Open;
+        (
+            close.into_iter().filter(is_open).collect(),
+            open.into_iter().filter(|i| !is_open(i)).collect(),
+        )
+    }
+
     /// The flat points whose contact changes between the statuses `now` and
     /// those at `trial`: (open now and closed there, closed now and open
     /// there).

@@ -105,15 +105,8 @@ impl StaticSolver<'_> {
             );
             // (a coupled step of the tail cut short where points open or
             // close: the next step tries them so, as in the condensed pass)
-            let (closing, opening) = std::mem::take(&mut contact_next);
-            let closing: Vec<usize> = closing
-                .into_iter()
-                .filter(|&i| obs.status[i].0 == ContactStatus::Open)
-                .collect();
-            let opening: Vec<usize> = opening
-                .into_iter()
-                .filter(|&i| obs.status[i].0 != ContactStatus::Open)
-                .collect();
+            let (closing, opening) =
+                Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
             let trial =
                 if !symmetric && self.coupled_tail && !(closing.is_empty() && opening.is_empty()) {
                     self.coupled_predicted_step(
@@ -464,17 +457,34 @@ impl StaticSolver<'_> {
             let ahead: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + reach * d).collect();
             *next = self.contact_changes(&ahead, committed, now);
         }
-        let end: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + step * d).collect();
-        let at_end = self.statuses(&end, committed).iter().map(|s| s.0).collect();
         let kdu = self.bulk_force(&du);
+        Ok(Some(self.kept_step(
+            committed,
+            (u, ku),
+            (du, du_rotated, kdu),
+            step,
+        )))
+    }
+
+    /// A predicted step `du` (global and rotated frame, `kdu` = K du) kept
+    /// with the line-search step `step` from `u` (`ku` = K u).
+    fn kept_step(
+        &self,
+        committed: &[PointStates],
+        (u, ku): (&[f64], &[f64]),
+        (du, du_rotated, kdu): (Vec<f64>, Vec<f64>, Vec<f64>),
+        step: f64,
+    ) -> PredictedStep {
+        let end: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
+        let at_end = self.statuses(&end, committed).iter().map(|s| s.0).collect();
         let ku_end = ku.iter().zip(&kdu).map(|(a, b)| a + step * b).collect();
-        Ok(Some(PredictedStep {
+        PredictedStep {
             du,
             du_rotated,
             step,
             at_end,
             ku_end,
-        }))
+        }
     }
 
     /// The Newton step from `u` on the branch where the flat points
@@ -520,16 +530,12 @@ impl StaticSolver<'_> {
         let kdu = self.bulk_force(&du);
         let step =
             self.energy_line_search(f_ext, committed, (u, ku), (&du, &kdu), &du_rotated, r)?;
-        let end: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a + step * b).collect();
-        let at_end = self.statuses(&end, committed).iter().map(|s| s.0).collect();
-        let ku_end = ku.iter().zip(&kdu).map(|(a, b)| a + step * b).collect();
-        Ok(Some(PredictedStep {
-            du,
-            du_rotated,
+        Ok(Some(self.kept_step(
+            committed,
+            (u, ku),
+            (du, du_rotated, kdu),
             step,
-            at_end,
-            ku_end,
-        }))
+        )))
     }
 }
 
