@@ -304,6 +304,8 @@ impl StaticSolver<'_> {
         let mut tail_passes = Vec::new();
         // the early coupled pass: tried in this increment, and running
         let (mut early_tried, mut early_pass) = (false, false);
+        // the states the early coupled pass started from
+        let mut early_entry: Option<States> = None;
         // the last converged pass was settled (no failed pass since), and
         // the statuses at the end of the last converged pass
         let mut previous_settled = false;
@@ -347,15 +349,23 @@ impl StaticSolver<'_> {
                         if let Some(frozen) = tail.take() {
                             self.leave_coupled_tail(frozen, options);
                         }
-                        if early_pass {
-                            // the usual coupled tail may still come
+                        frozen_friction = true;
+                        if let Some(entry) = early_entry.take().filter(|_| early_pass) {
+                            // an early pass: the frozen passes go on from
+                            // where it started (the update after the
+                            // frozen pass before it), inexact as before,
+                            // and the usual coupled tail may still come
                             early_pass = false;
                             tail_tried = false;
+                            committed = entry;
+                            exact_next = false;
+                            previous_settled = false;
+                            last_end = None;
+                            continue;
                         }
                         if let Some(prev) = &last_start {
                             committed.clone_from(prev);
                         }
-                        frozen_friction = true;
                         exact_next = true;
                         previous_settled = false;
                         last_end = None;
@@ -538,6 +548,7 @@ impl StaticSolver<'_> {
                 frozen_friction = false;
                 exact_next = true;
             } else if early {
+                early_entry = Some(committed.clone());
                 tail = Some(self.enter_coupled_tail());
                 early_tried = true;
                 early_pass = true;
