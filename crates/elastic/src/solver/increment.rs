@@ -303,8 +303,8 @@ impl StaticSolver<'_> {
             !(frozen_friction && self.options.coupled_tail) || self.outer_floor > 0.0;
         let mut tail_passes = Vec::new();
         // the early coupled pass: tried in this increment, and running
-        let (mut early_tried, mut early_pass) = (false, false);
-        // the states the early coupled pass started from
+        let mut early_tried = false;
+        // while the early coupled pass runs: the states it started from
         let mut early_entry: Option<States> = None;
         // the last converged pass was settled (no failed pass since), and
         // the statuses at the end of the last converged pass
@@ -350,15 +350,16 @@ impl StaticSolver<'_> {
                             self.leave_coupled_tail(frozen, options);
                         }
                         frozen_friction = true;
-                        if let Some(entry) = early_entry.take().filter(|_| early_pass) {
+                        if let Some(entry) = early_entry.take() {
                             // an early pass: the frozen passes go on from
                             // where it started (the update after the
-                            // frozen pass before it), inexact as before,
-                            // and the usual coupled tail may still come
-                            early_pass = false;
+                            // frozen pass before it), with an exact pass
+                            // (inexact there: g0 at μ = 2 256 instead of
+                            // 243 in one increment), and the usual coupled
+                            // tail may still come
                             tail_tried = false;
                             committed = entry;
-                            exact_next = false;
+                            exact_next = true;
                             previous_settled = false;
                             last_end = None;
                             continue;
@@ -438,13 +439,12 @@ impl StaticSolver<'_> {
             if tail.is_some() {
                 tail_passes.push(passes.len() - 1);
             }
-            if early_pass {
+            if early_entry.take().is_some() {
                 // back to the frozen passes, their limits set below to the
                 // pressures of the coupled pass
                 if let Some(frozen) = tail.take() {
                     self.leave_coupled_tail(frozen, options);
                 }
-                early_pass = false;
                 tail_tried = false;
                 frozen_friction = true;
             }
@@ -551,7 +551,6 @@ impl StaticSolver<'_> {
                 early_entry = Some(committed.clone());
                 tail = Some(self.enter_coupled_tail());
                 early_tried = true;
-                early_pass = true;
                 tail_tried = true;
                 frozen_friction = false;
                 // (it may stop inexactly: the frozen passes go on from it)
