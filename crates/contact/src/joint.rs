@@ -38,6 +38,12 @@ pub struct JointState {
     /// sets it on a copy of the committed states, used for a predicted
     /// Newton step only.
     pub forced_closed: bool,
+    /// Newton prediction hook, never committed: when true, a closed point
+    /// whose slip limit is positive sticks whatever its trial traction
+    /// (the stick branch of the return mapping continued past the limit).
+    /// A solver sets it on a copy of the committed states, used for a
+    /// predicted Newton step only.
+    pub forced_stick: bool,
 }
 
 /// Relative distance from the slip limit within which a slipping point of a
@@ -399,6 +405,11 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
                 }
             }
             FrictionBound::Frozen => (self.strength(-committed.friction_pressure), 0.0),
+        };
+        let s = if committed.forced_stick && s > 0.0 {
+            f64::INFINITY
+        } else {
+            s
         };
         let tau_trial = self.k_s * (jump.x - committed.slip);
         // A point without strength (s = 0: frictionless, or no pressure and

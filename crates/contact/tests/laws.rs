@@ -922,3 +922,66 @@ fn the_closed_branch_continues_the_contact_branch_into_tension() {
         assert_relative_eq!(fd, b.stiffness, max_relative = 1e-6);
     }
 }
+
+/// The stick branch continued past the slip limit (`forced_stick`, the
+/// branch a Newton prediction tries for a slipping point it expects to
+/// stick): a closed point with a positive limit takes the elastic trial
+/// traction and the stick tangent whatever its shear, in both friction
+/// bounds, and the forced copy differs from the law only where the law
+/// slips; a point without strength still slides freely.
+#[test]
+fn a_forced_stick_continues_the_stick_branch_past_the_slip_limit() {
+    let coupled = friction_law(0.0, 2.0f64.atan().to_degrees()); // μ = 2
+    let frozen = coupled.with_friction_bound(FrictionBound::Frozen);
+    let p = 3.0e6;
+    let du_n = -p / K;
+    assert_relative_eq!(
+        coupled
+            .evaluate(&Vector2::new(0.0, du_n), &JointState::default())
+            .traction
+            .y,
+        -p,
+        max_relative = 1e-12
+    );
+    let limit = coupled.tan_phi() * p;
+    for (law, pressure) in [(coupled, 0.0), (frozen, p)] {
+        let st = JointState {
+            slip: 1.0e-7,
+            friction_pressure: pressure,
+            ..JointState::default()
+        };
+        let forced = JointState {
+            forced_stick: true,
+            ..st
+        };
+        // within the limit: the law and its forced copy agree to the bit
+        let inside = Vector2::new(st.slip + 0.5 * limit / K, du_n);
+        let (a, b) = (law.evaluate(&inside, &st), law.evaluate(&inside, &forced));
+        assert_eq!(a.status, ContactStatus::Stick);
+        assert_eq!((a.traction, a.tangent), (b.traction, b.tangent));
+        // three times past the limit, both ways: the law slips at ±limit,
+        // the forced copy sticks with the trial traction and k_s
+        for sign in [1.0, -1.0] {
+            let past = Vector2::new(st.slip + sign * 3.0 * limit / K, du_n);
+            let a = law.evaluate(&past, &st);
+            assert_eq!(a.status, ContactStatus::Slip);
+            assert_relative_eq!(a.traction.x, sign * limit, max_relative = 1e-9);
+            let b = law.evaluate(&past, &forced);
+            assert_eq!(b.status, ContactStatus::Stick);
+            assert_relative_eq!(b.traction.x, sign * 3.0 * limit, max_relative = 1e-9);
+            assert_eq!(b.traction.y, a.traction.y);
+            assert_eq!(b.tangent, Matrix2::new(K, 0.0, 0.0, K));
+            assert_eq!(b.state, forced, "a forced stick keeps the committed slip");
+            assert!(fd_error(&law, &past, &forced, 1e-13, K) < FD_TOL);
+        }
+    }
+    // frictionless: no strength, nothing to stick with
+    let free = friction_law(0.0, 0.0);
+    let st = JointState {
+        forced_stick: true,
+        ..JointState::default()
+    };
+    let r = free.evaluate(&Vector2::new(1.0e-6, -1.0e-6), &st);
+    assert_eq!(r.status, ContactStatus::Slip);
+    assert_eq!(r.traction.x, 0.0);
+}

@@ -31,11 +31,13 @@ pub struct IterationRecord {
     /// tolerance, where the exact value changes nothing) rather than the
     /// floor itself.
     pub floor_is_bound: bool,
-    /// Points the step assumed open (ahead of an opening front), sticking
-    /// (reversed slips, sticking at the end of a cut-short full step) and
-    /// slipping (ahead of a slip front): see the solver's predictions; all
-    /// 0 for an exact Newton step.
-    pub predicted: [usize; 3],
+    /// Points the step assumed open (ahead of an opening front, or open a
+    /// little further along a cut-short coupled step), sticking (reversed
+    /// slips, sticking or reversed at the end of a cut-short full step),
+    /// slipping (ahead of a slip front) and closed (closed a little
+    /// further along a cut-short coupled step): see the solver's
+    /// predictions; all 0 for an exact Newton step.
+    pub predicted: [usize; 4],
     /// True for a predicted step that was tried and discarded (a linear
     /// solve that did not move the iterate).
     pub rejected: bool,
@@ -64,7 +66,7 @@ impl std::fmt::Display for IterationRecord {
         let parts: Vec<String> = self
             .predicted
             .iter()
-            .zip(["open", "stick", "slip"])
+            .zip(["open", "stick", "slip", "close"])
             .filter(|(n, _)| **n > 0)
             .map(|(n, what)| format!("{n} to {what}"))
             .collect();

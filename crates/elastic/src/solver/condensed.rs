@@ -34,7 +34,7 @@ use tecon_fem::{CondensedCholesky, FemError};
 use crate::error::{ElasticError, IterationRecord};
 
 use super::coarse::{COARSE_GATE, COARSE_MAX_ITERATIONS, COARSE_TOLERANCE, CoarseSpace};
-use super::front::COUPLED_PREDICTION_REACH;
+use super::front::CoupledNext;
 use super::line_search::{backtrack, root_along_ray};
 use super::newton::ROUND_OFF_FACTOR;
 use super::tracker::PassTracker;
@@ -453,10 +453,9 @@ impl StaticSolver<'_> {
         };
         let mut fc = vec![0.0; n];
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
-        // coupled passes: the points whose contact the last cut-short step
-        // changes a little further along its ray (see
-        // `front::COUPLED_PREDICTION_REACH`): (to close, to open)
-        let mut contact_next: (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
+        // coupled passes: what the last cut-short step predicts for the next
+        // (see `front::CoupledNext`)
+        let mut contact_next = CoupledNext::default();
         let mut uf = u.clone();
         for (a, &d) in gamma.iter().enumerate() {
             uf[d] = u[d] + delta[a];
@@ -579,11 +578,17 @@ impl StaticSolver<'_> {
             // next step tries those points closed or open, as the primal-
             // dual active set would (the forced branch's tangent, solved
             // by the dense LU of the Schur system, and the same line search)
-            let (closing, opening) =
-                Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
-            let trial = if !(symmetric || closing.is_empty() && opening.is_empty()) {
-                let mut forced = self.forced_branch(committed, (&opening, &[], &[]), None, &uf);
-                self.force_closed(&mut forced, &closing);
+            let next = Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
+            let coupled_trial = !(symmetric || next.is_empty());
+            let counts = if coupled_trial {
+                next.counts()
+            } else {
+                [predicted.len(), sticks.len(), slips.len(), 0]
+            };
+            let trial = if coupled_trial {
+                let mut forced =
+                    self.forced_branch(committed, (&next.open, &next.stick, &[]), None, &uf);
+                self.force_closed(&mut forced, &next.close);
                 let (fcp, gp) = self.gamma_force(cx, &uf, &forced, &mut fc, true)?;
                 let gp = gp.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
                 let mut du = residual(&s_delta, &fcp, &cx.fixed);
@@ -591,9 +596,8 @@ impl StaticSolver<'_> {
                 let s_du = cx.chol.mul_schur(&cx.bulk_gg, &du);
                 let step = self.gamma_line_search(cx, committed, &ray, (&du, &s_du), false)?;
                 if step < 1.0 {
-                    let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
                     contact_next =
-                        self.contact_changes(&ray.at(&du, reach), committed, &obs.status);
+                        self.coupled_next(|a| ray.at(&du, a), step, committed, &obs.status);
                 }
                 let end = ray.at(&du, step);
                 let at_end: Vec<PointStatus> =
@@ -630,7 +634,6 @@ impl StaticSolver<'_> {
                 }
             };
             let fronts = predicted.len() + slips.len();
-            let counts = [predicted.len(), sticks.len(), slips.len()];
             let (du, s_du, step) = match trial {
                 Some((du, s_du, step, at_end)) => {
                     t.kept_prediction(counts, &at_end);
@@ -683,9 +686,8 @@ impl StaticSolver<'_> {
                         let step =
                             self.gamma_line_search(cx, committed, &ray, (&du, &s_du), false)?;
                         if step < 1.0 {
-                            let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
                             contact_next =
-                                self.contact_changes(&ray.at(&du, reach), committed, &obs.status);
+                                self.coupled_next(|a| ray.at(&du, a), step, committed, &obs.status);
                         }
                         (du, s_du, step)
                     } else {

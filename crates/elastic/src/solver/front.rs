@@ -297,6 +297,7 @@ impl StaticSolver<'_> {
         each_point(&mut forced, stick, |_, _, state| {
             // finite: 0 · ∞ would make a frictionless limit NaN
             state.friction_pressure = 1e300;
+            state.forced_stick = true;
         });
         forced
     }
@@ -319,42 +320,108 @@ impl StaticSolver<'_> {
         each_point(states, list, |_, _, state| state.forced_closed = true);
     }
 
-    /// Of the points `(close, open)` that a cut-short coupled step
-    /// predicted, those still open (to close) and still closed (to open)
-    /// at the statuses `now`.
-    pub(super) fn still_to_change(
-        (close, open): (Vec<usize>, Vec<usize>),
-        now: &[PointStatus],
-    ) -> (Vec<usize>, Vec<usize>) {
+    /// Of the points that a cut-short coupled step predicted, those still
+    /// open (to close), still closed (to open) and still slipping (to
+    /// stick) at the statuses `now`.
+    pub(super) fn still_to_change(next: CoupledNext, now: &[PointStatus]) -> CoupledNext {
         let is_open = |i: &usize| now[*i].0 == ContactStatus::Open;
-        (
-            close.into_iter().filter(is_open).collect(),
-            open.into_iter().filter(|i| !is_open(i)).collect(),
-        )
+        CoupledNext {
+            close: next.close.into_iter().filter(is_open).collect(),
+            open: next.open.into_iter().filter(|i| !is_open(i)).collect(),
+            stick: next
+                .stick
+                .into_iter()
+                .filter(|i| now[*i].0 == ContactStatus::Slip)
+                .collect(),
+        }
     }
 
-    /// The flat points whose contact changes between the statuses `now` and
-    /// those at `trial`: (open now and closed there, closed now and open
-    /// there).
-    pub(super) fn contact_changes(
+    /// What a coupled step cut short at `step` predicts for the next step,
+    /// `at(α)` being the iterate at α times the step along its ray and
+    /// `now` the statuses where it starts: the points whose contact
+    /// changes at [`COUPLED_PREDICTION_REACH`] times the step (open now and
+    /// closed there, to close; closed now and open there, to open) and
+    /// the slipping points that the full step makes stick or slip the
+    /// other way (to stick, see [`CoupledNext`]).
+    pub(super) fn coupled_next(
         &self,
-        trial: &[f64],
+        at: impl Fn(f64) -> Vec<f64>,
+        step: f64,
         committed: &[PointStates],
         now: &[PointStatus],
-    ) -> (Vec<usize>, Vec<usize>) {
-        let (mut close, mut open) = (Vec::new(), Vec::new());
-        for (i, (there, here)) in self.statuses(trial, committed).iter().zip(now).enumerate() {
+    ) -> CoupledNext {
+        let mut next = CoupledNext::default();
+        let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
+        for (i, (there, here)) in self
+            .statuses(&at(reach), committed)
+            .iter()
+            .zip(now)
+            .enumerate()
+        {
             let (o_here, o_there) = (
                 here.0 == ContactStatus::Open,
                 there.0.0 == ContactStatus::Open,
             );
             if o_here && !o_there {
-                close.push(i);
+                next.close.push(i);
             } else if !o_here && o_there {
-                open.push(i);
+                next.open.push(i);
             }
         }
-        (close, open)
+        for (i, (there, here)) in self
+            .statuses(&at(1.0), committed)
+            .iter()
+            .zip(now)
+            .enumerate()
+        {
+            if here.0 == ContactStatus::Slip
+                && (there.0.0 == ContactStatus::Stick || there.0.1 == -here.1)
+            {
+                next.stick.push(i);
+            }
+        }
+        next
+    }
+}
+
+/// The points a cut-short coupled step predicts for the next step (flat
+/// indices, sorted; see [`StaticSolver::coupled_next`]).
+///
+/// Why the sticking points: the coupled slip tangent has no shear
+/// stiffness, so a coupled Newton step moves a slipping point's shear
+/// freely, and where the frozen pass before it left the slip going one
+/// way and the coupled law wants it the other, the full step reverses
+/// dozens of points at once. Between the two slip branches lies the stick
+/// band (2 s/k_s wide, the traction swinging from +s to −s), and the
+/// residual at the full step was up to 10³ times the start's: the
+/// backtracking cut every step to ½ or less (`t1e5` at μ = 2, t = 600 s:
+/// an early coupled pass of 20 iterations that did not converge, 144 in
+/// the increment; with the stick branch tried, 13 and 33). Read at the
+/// full step, not at the contact predictions' reach: over the 30
+/// high-friction runs of docs/vessel.md §6 5 944 Newton iterations
+/// against 6 016 (6 672 without), μ ≤ 1.5 unchanged bit for bit.
+#[derive(Clone, Debug, Default)]
+pub(super) struct CoupledNext {
+    /// Open now, closed at the reach: tried on the contact branch
+    /// continued into tension ([`StaticSolver::force_closed`]).
+    pub close: Vec<usize>,
+    /// Closed now, open at the reach: tried open.
+    pub open: Vec<usize>,
+    /// Slipping now, sticking or slipping the other way at the full step:
+    /// tried on the stick branch continued past the limit
+    /// (`JointState::forced_stick`).
+    pub stick: Vec<usize>,
+}
+
+impl CoupledNext {
+    /// The counts as an iteration record keeps them: to open, to stick, to
+    /// slip (none), to close.
+    pub(super) fn counts(&self) -> [usize; 4] {
+        [self.open.len(), self.stick.len(), 0, self.close.len()]
+    }
+
+    pub(super) fn is_empty(&self) -> bool {
+        self.close.is_empty() && self.open.is_empty() && self.stick.is_empty()
     }
 }
 

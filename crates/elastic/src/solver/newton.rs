@@ -5,7 +5,7 @@ use tecon_fem::FemError;
 
 use crate::error::{ElasticError, IterationRecord};
 
-use super::front::COUPLED_PREDICTION_REACH;
+use super::front::CoupledNext;
 use super::tracker::{PassTracker, failure};
 use super::*;
 
@@ -22,10 +22,9 @@ impl StaticSolver<'_> {
         let opts = self.options;
         let mut t = PassTracker::new(norm(f_ext), pass).with_forcing(self.pass_forcing);
         let per_element: Vec<usize> = committed.iter().map(|s| s.per_element()).collect();
-        // coupled tail passes: the points whose contact the last cut-short
-        // step changes a little further along its ray (see
-        // `front::COUPLED_PREDICTION_REACH`): (to close, to open)
-        let mut contact_next: (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
+        // coupled passes: what the last cut-short step predicts for the next
+        // (see `front::CoupledNext`)
+        let mut contact_next = CoupledNext::default();
         // K u of the next iterate, when the line search has it already
         let mut next_ku: Option<Vec<f64>> = None;
         while t.history.len() < opts.max_iterations {
@@ -105,34 +104,37 @@ impl StaticSolver<'_> {
             );
             // (a coupled step of the tail cut short where points open or
             // close: the next step tries them so, as in the condensed pass)
-            let (closing, opening) =
-                Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
-            let trial =
-                if !symmetric && self.coupled_tail && !(closing.is_empty() && opening.is_empty()) {
-                    self.coupled_predicted_step(
-                        f_ext,
-                        committed,
-                        (&u, &ku, &r),
-                        (&closing, &opening),
-                        &obs.status,
-                        accept,
-                        &mut contact_next,
-                    )?
-                } else if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
-                    None
-                } else {
-                    self.predicted_step(
-                        f_ext,
-                        committed,
-                        &u,
-                        &ku,
-                        &r,
-                        (&predicted, &sticks, &slips, t.damped_points()),
-                        accept,
-                    )?
-                };
+            let next = Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
+            let coupled_trial = !symmetric && self.coupled_tail && !next.is_empty();
+            let counts = if coupled_trial {
+                next.counts()
+            } else {
+                [predicted.len(), sticks.len(), slips.len(), 0]
+            };
+            let trial = if coupled_trial {
+                self.coupled_predicted_step(
+                    f_ext,
+                    committed,
+                    (&u, &ku, &r),
+                    &next,
+                    &obs.status,
+                    accept,
+                    &mut contact_next,
+                )?
+            } else if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
+                None
+            } else {
+                self.predicted_step(
+                    f_ext,
+                    committed,
+                    &u,
+                    &ku,
+                    &r,
+                    (&predicted, &sticks, &slips, t.damped_points()),
+                    accept,
+                )?
+            };
             let fronts = predicted.len() + slips.len();
-            let counts = [predicted.len(), sticks.len(), slips.len()];
             let (du, du_rotated, known_step) = match trial {
                 Some(p) => {
                     t.kept_prediction(counts, &p.at_end);
@@ -211,9 +213,8 @@ impl StaticSolver<'_> {
             } else {
                 let step = self.residual_line_search(f_ext, committed, &u, &du, &r)?;
                 if step < 1.0 && self.coupled_tail {
-                    let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
-                    let ahead: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + reach * d).collect();
-                    contact_next = self.contact_changes(&ahead, committed, &obs.status);
+                    let at = |a: f64| u.iter().zip(&du).map(|(x, d)| x + a * d).collect();
+                    contact_next = self.coupled_next(at, step, committed, &obs.status);
                 }
                 step
             };
@@ -432,13 +433,14 @@ impl StaticSolver<'_> {
         f_ext: &[f64],
         committed: &[PointStates],
         (u, ku, r): (&[f64], &[f64], &[f64]),
-        (closing, opening): (&[usize], &[usize]),
+        predicted: &CoupledNext,
         now: &[PointStatus],
         accept: f64,
-        next: &mut (Vec<usize>, Vec<usize>),
+        next: &mut CoupledNext,
     ) -> Result<Option<PredictedStep>, ElasticError> {
-        let mut forced = self.forced_branch(committed, (opening, &[], &[]), None, u);
-        self.force_closed(&mut forced, closing);
+        let mut forced =
+            self.forced_branch(committed, (&predicted.open, &predicted.stick, &[]), None, u);
+        self.force_closed(&mut forced, &predicted.close);
         let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
         let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
         self.rotations.rotate_matrix(&mut kt);
@@ -453,9 +455,8 @@ impl StaticSolver<'_> {
         self.rotations.unrotate_vector(&mut du);
         let step = self.residual_line_search(f_ext, committed, u, &du, r)?;
         if step < 1.0 {
-            let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
-            let ahead: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + reach * d).collect();
-            *next = self.contact_changes(&ahead, committed, now);
+            let at = |a: f64| u.iter().zip(&du).map(|(x, d)| x + a * d).collect();
+            *next = self.coupled_next(at, step, committed, now);
         }
         let kdu = self.bulk_force(&du);
         Ok(Some(self.kept_step(

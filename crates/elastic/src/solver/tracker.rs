@@ -176,7 +176,7 @@ impl PassTracker {
             changed,
             floor,
             floor_is_bound,
-            predicted: [0; 3],
+            predicted: [0; 4],
             rejected: false,
             inexact: loose,
         });
@@ -387,10 +387,10 @@ impl PassTracker {
         out
     }
 
-    /// A predicted step of `n` points (to open, stick, slip) was kept;
+    /// A predicted step of `n` points (to open, stick, slip, close) was kept;
     /// `at_end`: the statuses at its end. Each opening or slip front
     /// reaches twice or half as far next time (see [`next_reach`]).
-    pub fn kept_prediction(&mut self, n: [usize; 3], at_end: &[PointStatus]) {
+    pub fn kept_prediction(&mut self, n: [usize; 4], at_end: &[PointStatus]) {
         let fronts = std::mem::take(&mut self.fronts);
         self.carry = next_reach(fronts, at_end, ContactStatus::Open);
         let fronts = std::mem::take(&mut self.slip_fronts);
@@ -400,10 +400,10 @@ impl PassTracker {
         }
     }
 
-    /// A predicted step of `n` points (to open, stick, slip) was
+    /// A predicted step of `n` points (to open, stick, slip, close) was
     /// discarded: the trial cost a solve, so it counts as an iteration.
     /// True if that used up the iterations of the pass.
-    pub fn rejected_prediction(&mut self, n: [usize; 3], max_iterations: usize) -> bool {
+    pub fn rejected_prediction(&mut self, n: [usize; 4], max_iterations: usize) -> bool {
         // every front starts again from reach 1
         self.fronts.clear();
         self.carry.clear();
