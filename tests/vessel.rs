@@ -406,7 +406,11 @@ fn mu_2_converges_on_paper_and_level_2() {
 /// 10 takes 25 outer updates (489 Newton iterations, the same pressure)
 /// and no longer needs the extension; μ = 7 did (33 updates) until session
 /// 40's coupled tail after a single pass settled both ways (24 updates);
-/// μ = 9 does (34 updates), and checks it. μ = 5 on the paper mesh converged too, through 397 load
+/// μ = 9 did (34 updates) until session 42's stick predictions in coupled
+/// passes (8 updates; level 2 at μ = 6 to 15 now takes at most 25), so
+/// the extension is checked in the elastic crate's tests
+/// (`an_outer_loop_that_still_converges_goes_past_its_update_limit`,
+/// with a lower limit). μ = 5 on the paper mesh converged too, through 397 load
 /// increments and 16 101 Newton iterations, on a path that any change of
 /// the solves' rounding could break (the statuses of a few points flip
 /// between outer updates); on level 2 it failed, its change stopped
@@ -430,7 +434,7 @@ fn high_friction_converges_past_the_outer_limit() {
         summary(&analyse(&o).unwrap_or_else(|e| panic!("μ = {friction}: {e}")))
     };
     let level2 = || VesselMeshSpec::refined(2).unwrap();
-    let (v2, v9, v10) = (run(level2(), 2.0), run(level2(), 9.0), run(level2(), 10.0));
+    let (v2, v10) = (run(level2(), 2.0), run(level2(), 10.0));
     // μ = 5 on the paper mesh (it stopped after 30 updates too)
     let v5 = run(VesselMeshSpec::paper(), 5.0);
     assert!(f(&v5, "/final/contact_pressure_mean") > 0.0);
@@ -464,12 +468,6 @@ fn high_friction_converges_past_the_outer_limit() {
     assert!(
         worst < 2e-4,
         "Coulomb violated by {worst:.2e} of the largest pressure"
-    );
-    let outer = f(&v9, "/newton/max_augmentations_per_increment");
-    let limit = tecon_elastic::SolverOptions::default().max_augmentations as f64;
-    assert!(
-        outer > limit,
-        "{outer} outer updates: the extension was not needed"
     );
     let (p2, p10) = (
         f(&v2, "/final/contact_pressure_mean"),
