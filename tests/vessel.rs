@@ -760,3 +760,32 @@ fn inexact_passes_keep_the_answers() {
         assert!(f(&inexact, "/newton/inexact_passes") > 0.0);
     }
 }
+
+/// The early coupled passes are counted apart from the coupled tail: level
+/// 2 at μ = 2 takes one in four of its six increments (session 42), each
+/// among the coupled passes; without the coupled tail there are none.
+#[test]
+fn early_coupled_passes_are_counted() {
+    let run = |coupled_tail: bool| {
+        let o = VesselOptions {
+            mesh: VesselMeshSpec::refined(2).unwrap(),
+            friction: 2.0,
+            coupled_tail,
+            quiet: true,
+            ..Default::default()
+        };
+        summary(&analyse(&o).expect("level 2 at μ = 2"))
+    };
+    let v = run(true);
+    let (early, coupled) = (
+        f(&v, "/newton/early_coupled_passes"),
+        f(&v, "/newton/coupled_tail_passes"),
+    );
+    assert!(
+        early > 0.0 && early <= coupled,
+        "{early} early of {coupled}"
+    );
+    let v = run(false);
+    assert_eq!(f(&v, "/newton/early_coupled_passes"), 0.0);
+    assert_eq!(f(&v, "/newton/coupled_tail_passes"), 0.0);
+}

@@ -631,6 +631,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
         json!(outcome.newton.max_coarse_per_increment);
     summary["newton_coarse_space_dofs"] = json!(outcome.newton.coarse_dofs);
     summary["newton_coupled_tail_passes"] = json!(outcome.newton.coupled_tail_passes);
+    summary["newton_early_coupled_passes"] = json!(outcome.newton.early_coupled_passes);
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);
         summary["coupling"]["per_output"] = json!(

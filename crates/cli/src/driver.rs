@@ -290,8 +290,11 @@ pub struct NewtonStats {
     /// outer loop of the frozen friction limits stalled.
     pub coupled_increments: usize,
     /// Newton passes with the coupled law in the tail of an outer loop
-    /// (see `SolverOptions::coupled_tail`).
+    /// (see `SolverOptions::coupled_tail`), the early ones included.
     pub coupled_tail_passes: usize,
+    /// Of those, the early coupled passes (see
+    /// `SolverOptions::early_coupled_pass`).
+    pub early_coupled_passes: usize,
     /// Newton passes that stopped before the full tolerance because a
     /// friction-limit update followed (inexact passes).
     pub inexact_passes: usize,
@@ -1069,6 +1072,7 @@ impl<'s> Contact<'s> {
             self.newton.failed_iterations += r.failed_iterations;
             self.newton.coupled_increments += usize::from(r.coupled);
             self.newton.coupled_tail_passes += r.coupled_tail_passes.len();
+            self.newton.early_coupled_passes += r.early_coupled_passes.len();
             self.newton.inexact_passes += r
                 .passes
                 .iter()
@@ -1152,7 +1156,9 @@ pub(crate) fn print_history(time: f64, reports: &[IncrementReport]) {
             eprintln!("  cut back: {c}");
         }
         for (k, pass) in r.passes.iter().enumerate() {
-            if r.coupled_tail_passes.contains(&k) {
+            if r.early_coupled_passes.contains(&k) {
+                eprintln!("  pass {} (early coupled pass):", k + 1);
+            } else if r.coupled_tail_passes.contains(&k) {
                 eprintln!("  pass {} (coupled tail):", k + 1);
             } else {
                 eprintln!("  pass {}:", k + 1);

@@ -476,8 +476,10 @@ pub fn summary(run: &VesselRun) -> Value {
             "coarse_iterations": run.newton.coarse_iterations,
             "max_coarse_iterations_per_increment": run.newton.max_coarse_per_increment,
             "coarse_space_dofs": run.newton.coarse_dofs,
-            // passes with the coupled law in the tail of an outer loop
+            // passes with the coupled law in the tail of an outer loop,
+            // and of those the early coupled passes
             "coupled_tail_passes": run.newton.coupled_tail_passes,
+            "early_coupled_passes": run.newton.early_coupled_passes,
         },
         "joint": {
             "interface": run.options.interface.name(),

@@ -302,6 +302,7 @@ impl StaticSolver<'_> {
         let mut tail_tried =
             !(frozen_friction && self.options.coupled_tail) || self.outer_floor > 0.0;
         let mut tail_passes = Vec::new();
+        let mut early_passes = Vec::new();
         // the early coupled pass: tried in this increment, and running
         let mut early_tried = false;
         // while the early coupled pass runs: the states it started from
@@ -343,6 +344,9 @@ impl StaticSolver<'_> {
                     // increment up again from the start of that pass.
                     Err(ElasticError::NotConverged { history, .. }) if tail.is_some() => {
                         tail_passes.push(passes.len());
+                        if early_entry.is_some() {
+                            early_passes.push(passes.len());
+                        }
                         total_iterations += history.len();
                         max_pass = max_pass.max(history.len());
                         passes.push(history);
@@ -438,6 +442,9 @@ impl StaticSolver<'_> {
             passes.push(history.clone());
             if tail.is_some() {
                 tail_passes.push(passes.len() - 1);
+                if early_entry.is_some() {
+                    early_passes.push(passes.len() - 1);
+                }
             }
             if early_entry.take().is_some() {
                 // back to the frozen passes, their limits set below to the
@@ -587,6 +594,7 @@ impl StaticSolver<'_> {
                 coarse_iterations: self.coarse_in_increment,
                 coupled: false,
                 coupled_tail_passes: tail_passes,
+                early_coupled_passes: early_passes,
             },
         ))
     }

@@ -242,8 +242,11 @@ pub struct IncrementReport {
     pub coupled: bool,
     /// The passes (indices into `passes`) with the coupled law in the tail
     /// of the outer loop (see [`SolverOptions::coupled_tail`]), a failed
-    /// one included.
+    /// one included, and the early coupled passes.
     pub coupled_tail_passes: Vec<usize>,
+    /// Of those, the early coupled passes (see
+    /// [`SolverOptions::early_coupled_pass`]), a failed one included.
+    pub early_coupled_passes: Vec<usize>,
 }
 
 /// Default of [`SolverOptions::coarse_levels`]. A frictionless first pass
