@@ -84,6 +84,15 @@ fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The inner ring cooled by 50 K on one side of θ = 0.5 and heated by 50 K
+/// on the other: a load under which part of the interface slips.
+fn split_heating(mesh: &Mesh) -> Loads {
+    Loads {
+        delta_t: inner_by_angle(mesh, |theta| if theta < 0.5 { -50.0 } else { 50.0 }),
+        ..Loads::zero()
+    }
+}
+
 fn heated_inner(mesh: &Mesh) -> Loads {
     let inner = mesh.region_index("inner").unwrap();
     Loads {
@@ -403,11 +412,7 @@ fn the_coupled_tail_reaches_the_frozen_fixed_point_in_fewer_passes() {
     let model = common::steel_sector(&mesh)
         .interface("inner_outer", Joint::Frictional(law))
         .unwrap();
-    let delta_t = inner_by_angle(&mesh, |theta| if theta < 0.5 { -50.0 } else { 50.0 });
-    let loads = Loads {
-        delta_t,
-        ..Loads::zero()
-    };
+    let loads = split_heating(&mesh);
     for condensation in [true, false] {
         let run = |coupled_tail: bool, tolerance: f64| {
             let opts = SolverOptions {
@@ -476,11 +481,7 @@ fn an_outer_loop_that_still_converges_goes_past_its_update_limit() {
     let model = common::steel_sector(&mesh)
         .interface("inner_outer", Joint::Frictional(law))
         .unwrap();
-    let delta_t = inner_by_angle(&mesh, |theta| if theta < 0.5 { -50.0 } else { 50.0 });
-    let loads = Loads {
-        delta_t,
-        ..Loads::zero()
-    };
+    let loads = split_heating(&mesh);
     let run = |limit: usize| {
         let opts = SolverOptions {
             coupled_tail: false,
