@@ -529,7 +529,8 @@ fn mu_2_contact_pressure(mesh: VesselMeshSpec, name: &str) -> f64 {
 /// about 280 s (release), p = 35 256.75 Pa (μ = 0.3: 35 256.32, μ = 1:
 /// 35 256.82). Issue #12's goal, at most 40 Newton iterations in one
 /// increment and 15 in one pass, is met since session 42 (30 / 13, 159
-/// iterations, about 8 s in release), and checked here with the pressure.
+/// iterations, about 8 s in release; 26 / 13 since the reopened-point
+/// step), and checked here with the pressure.
 #[test]
 fn mu_2_converges_on_t1e5() {
     let o = VesselOptions {
@@ -554,14 +555,14 @@ fn mu_2_converges_on_t1e5() {
 /// Issue #12: the most Newton iterations in one increment on level 2
 /// (2 176 linear triangles, 276 interface dofs) and on `t1e5` (99 144,
 /// 1 840 interface dofs) differ by at most 5, frictionless, at μ = 0.3
-/// (the default joint) and at μ = 1 (23 and 26 since session 41), and
+/// (the default joint) and at μ = 1 (18 and 20 since session 42), and
 /// bonded. Both condense their passes onto the interface, and
 /// both get there through the coarse interface space before the first
 /// pass of an increment that has no friction limit yet (counted apart:
 /// `newton.coarse_iterations`), without which they took 13 / 26 and
-/// 30 / 42. Measured: level 2 11 / 16, `t1e5` 14 / 21, after at most 25
+/// 30 / 42. Measured: level 2 11 / 16, `t1e5` 14 / 20 (21 before session 42), after at most 25
 /// / 12 and 48 / 30 coarse steps (a frictionless joint's first passes
-/// take two coarse levels). (At μ = 2 they still differ, by 9: README,
+/// take two coarse levels). (At μ = 2 they still differ, by 8: README,
 /// "Known limits".)
 #[test]
 fn level_2_and_t1e5_take_as_many_newton_iterations() {

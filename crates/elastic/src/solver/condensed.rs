@@ -580,10 +580,13 @@ impl StaticSolver<'_> {
             // by the dense LU of the Schur system, and the same line search)
             let next = Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
             let coupled_trial = !(symmetric || next.is_empty());
+            // (the first step of a pass after an outer update: the points
+            // the update opened tried closed)
+            let reopened = self.reopened_points(&obs.status, t.history.len() == 1, symmetric);
             let counts = if coupled_trial {
                 next.counts()
             } else {
-                [predicted.len(), sticks.len(), slips.len(), 0]
+                [predicted.len(), sticks.len(), slips.len(), reopened.len()]
             };
             let trial = if coupled_trial {
                 let mut forced =
@@ -603,18 +606,23 @@ impl StaticSolver<'_> {
                 let at_end: Vec<PointStatus> =
                     self.statuses(&end, committed).iter().map(|s| s.0).collect();
                 Some((du, s_du, step, at_end))
-            } else if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
+            } else if predicted.is_empty()
+                && sticks.is_empty()
+                && slips.is_empty()
+                && reopened.is_empty()
+            {
                 None
             } else {
                 // the Newton step of the branch where the predicted points
-                // are open or slip (and the reversed ones stick): its
-                // tangent and its residual
-                let forced = self.forced_branch(
+                // are open or slip (and the reversed ones stick, the
+                // reopened ones are closed): its tangent and its residual
+                let mut forced = self.forced_branch(
                     committed,
                     (&predicted, &sticks, &slips),
                     t.damped_points(),
                     &uf,
                 );
+                self.force_closed(&mut forced, &reopened);
                 let (fcp, gp) = self.gamma_force(cx, &uf, &forced, &mut fc, true)?;
                 let gp = gp.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
                 let mut du = residual(&s_delta, &fcp, &cx.fixed);
@@ -633,7 +641,7 @@ impl StaticSolver<'_> {
                     _ => None,
                 }
             };
-            let fronts = predicted.len() + slips.len();
+            let fronts = predicted.len() + slips.len() + reopened.len();
             let (du, s_du, step) = match trial {
                 Some((du, s_du, step, at_end)) => {
                     t.kept_prediction(counts, &at_end);

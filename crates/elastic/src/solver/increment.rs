@@ -311,6 +311,7 @@ impl StaticSolver<'_> {
         // the statuses at the end of the last converged pass
         let mut previous_settled = false;
         let mut last_end: Option<Vec<super::PointStatus>> = None;
+        self.previous_end = None;
         let mut u = self.u.clone();
         // (a condensed pass of an earlier attempt is not continued)
         self.pending = None;
@@ -543,6 +544,7 @@ impl StaticSolver<'_> {
                 && !tail_tried
                 && frozen_friction
                 && end.as_ref().is_some_and(|e| self.early_coupled_pass(e));
+            self.previous_end.clone_from(&end);
             last_end = end;
             let quiet = history.iter().skip(1).all(|r| r.changed == 0);
             let settled = !inexact(&history) && (quiet || same_end);

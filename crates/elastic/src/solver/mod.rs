@@ -126,6 +126,10 @@ pub struct StaticSolver<'a> {
     /// The forcing of the next Newton pass (0: exact; see
     /// [`SolverOptions::pass_forcing`]).
     pass_forcing: f64,
+    /// The statuses at the end of the last pass, when an outer update
+    /// lies between it and the next one (see
+    /// [`StaticSolver::reopened_points`]).
+    previous_end: Option<Vec<PointStatus>>,
     /// Floor of the outer loop's stopping tolerances, as a fraction of the
     /// largest contact pressure (see [`StaticSolver::set_outer_tolerance_floor`]).
     outer_floor: f64,
@@ -313,6 +317,7 @@ impl<'a> StaticSolver<'a> {
             lu: None,
             outer_stalled: false,
             pass_forcing: 0.0,
+            previous_end: None,
             outer_floor: 0.0,
             outer_contraction: 0.0,
             u: vec![0.0; n],

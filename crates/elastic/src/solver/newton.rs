@@ -106,10 +106,13 @@ impl StaticSolver<'_> {
             // close: the next step tries them so, as in the condensed pass)
             let next = Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
             let coupled_trial = !symmetric && self.coupled_tail && !next.is_empty();
+            // (the first step of a pass after an outer update: the points
+            // the update opened tried closed)
+            let reopened = self.reopened_points(&obs.status, t.history.len() == 1, symmetric);
             let counts = if coupled_trial {
                 next.counts()
             } else {
-                [predicted.len(), sticks.len(), slips.len(), 0]
+                [predicted.len(), sticks.len(), slips.len(), reopened.len()]
             };
             let trial = if coupled_trial {
                 self.coupled_predicted_step(
@@ -121,20 +124,23 @@ impl StaticSolver<'_> {
                     accept,
                     &mut contact_next,
                 )?
-            } else if predicted.is_empty() && sticks.is_empty() && slips.is_empty() {
+            } else if predicted.is_empty()
+                && sticks.is_empty()
+                && slips.is_empty()
+                && reopened.is_empty()
+            {
                 None
             } else {
                 self.predicted_step(
                     f_ext,
                     committed,
-                    &u,
-                    &ku,
-                    &r,
-                    (&predicted, &sticks, &slips, t.damped_points()),
+                    (&u, &ku, &r),
+                    (&predicted, &sticks, &slips, &reopened),
+                    t.damped_points(),
                     accept,
                 )?
             };
-            let fronts = predicted.len() + slips.len();
+            let fronts = predicted.len() + slips.len() + reopened.len();
             let (du, du_rotated, known_step) = match trial {
                 Some(p) => {
                     t.kept_prediction(counts, &p.at_end);
@@ -489,7 +495,8 @@ impl StaticSolver<'_> {
     }
 
     /// The Newton step from `u` on the branch where the flat points
-    /// `predicted` are open (see `front`), if it is a descent direction of
+    /// `predicted` are open, `sticks` stick, `slips` slip and `closed` are
+    /// closed (see `front`), if it is a descent direction of
     /// the exact energy (`r` is the exact residual at `u`, rotated frame;
     /// `accept` as for [`StaticSolver::solve`]), with the exact line-search
     /// step along it (which lowers the energy, however short), as a
@@ -501,13 +508,13 @@ impl StaticSolver<'_> {
         &mut self,
         f_ext: &[f64],
         committed: &[PointStates],
-        u: &[f64],
-        ku: &[f64],
-        r: &[f64],
-        (predicted, sticks, slips, damped): (&[usize], &[usize], &[usize], Option<&[bool]>),
+        (u, ku, r): (&[f64], &[f64], &[f64]),
+        (predicted, sticks, slips, closed): (&[usize], &[usize], &[usize], &[usize]),
+        damped: Option<&[bool]>,
         accept: f64,
     ) -> Result<Option<PredictedStep>, ElasticError> {
-        let forced = self.forced_branch(committed, (predicted, sticks, slips), damped, u);
+        let mut forced = self.forced_branch(committed, (predicted, sticks, slips), damped, u);
+        self.force_closed(&mut forced, closed);
         let (kt, f_int) = self.tangent_and_force_from(u, ku, &forced, true)?;
         let mut kt = kt.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
         self.rotations.rotate_matrix(&mut kt);
