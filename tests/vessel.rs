@@ -560,7 +560,7 @@ fn mu_2_converges_on_t1e5() {
 /// both get there through the coarse interface space before the first
 /// pass of an increment that has no friction limit yet (counted apart:
 /// `newton.coarse_iterations`), without which they took 13 / 26 and
-/// 30 / 42. Measured: level 2 11 / 16, `t1e5` 14 / 20 (21 before session 42), after at most 25
+/// 30 / 42. Measured: level 2 11 / 16, `t1e5` 14 / 21, after at most 25
 /// / 12 and 48 / 30 coarse steps (a frictionless joint's first passes
 /// take two coarse levels). (At μ = 2 they still differ, by 8: README,
 /// "Known limits".)

@@ -34,7 +34,7 @@ use tecon_fem::{CondensedCholesky, FemError};
 use crate::error::{ElasticError, IterationRecord};
 
 use super::coarse::{COARSE_GATE, COARSE_MAX_ITERATIONS, COARSE_TOLERANCE, CoarseSpace};
-use super::front::CoupledNext;
+use super::front::{CoupledNext, REOPENED_MIN_STEP};
 use super::line_search::{backtrack, root_along_ray};
 use super::newton::ROUND_OFF_FACTOR;
 use super::tracker::PassTracker;
@@ -641,6 +641,9 @@ impl StaticSolver<'_> {
                     _ => None,
                 }
             };
+            // (the reopened points tried closed: kept only if they close in a
+            // full step, see `front::REOPENED_MIN_STEP`)
+            let trial = trial.filter(|p| reopened.is_empty() || p.2 >= REOPENED_MIN_STEP);
             let fronts = predicted.len() + slips.len() + reopened.len();
             let (du, s_du, step) = match trial {
                 Some((du, s_du, step, at_end)) => {

@@ -304,47 +304,69 @@ impl StaticSolver<'_> {
 }
 
 impl StaticSolver<'_> {
-    /// The points that the outer update before this pass opened: open at
-    /// the pass's first iterate `now` and closed at the end of the pass
-    /// before it. The first step of the pass tries them closed (the
-    /// contact branch continued into tension, as
-    /// [`StaticSolver::force_closed`]); none for a later iterate, the
-    /// first pass of an increment, a non-symmetric (coupled) pass or
+    /// The points that the outer update after an early coupled pass opened
+    /// (see [`reopened`]), at the first iterate `now` of the pass after it;
+    /// the pass's first step tries them closed (the contact branch
+    /// continued into tension, as [`StaticSolver::force_closed`]). None for
+    /// a later iterate, another pass, a non-symmetric (coupled) pass or
     /// without front predictions.
     ///
     /// Why: an update of the normal multipliers (λ ← the pressure) opens
     /// the points held closed by their multiplier that pressed less than
-    /// it did, and an update after a pass that moved far (the early
-    /// coupled pass) opens many: `t1e5` at μ = 2, t = 1 s, 175 points.
-    /// The pass's first Newton step then has them free (no normal, and on
-    /// a frozen limit no shear stiffness): it drives them through each
-    /// other, and the exact line search stops at the first of them to
-    /// close, a step of 3e-9, which closes some 60; four such steps before
-    /// the pass moves on (7 iterations in that pass). Tried closed, most
-    /// of them close in the first step: 1 iteration. Over the 30 high-
-    /// friction runs of docs/vessel.md §6 (condensed passes) 5 865 → 5 756
-    /// Newton iterations, the most in one increment summed 2 002 → 1 933.
+    /// it did, and after a pass that moved as far as the early coupled one
+    /// many do: `t1e5` at μ = 2, t = 1 s, 175. The next pass's first
+    /// Newton step then has them free (no normal, and sliding on a frozen
+    /// limit no shear stiffness): it drives them through each other, and
+    /// the exact line search stops at the first of them to close, a step
+    /// of 3e-9 that closes some 60; four such steps before the pass moves
+    /// on (7 iterations in that pass). Tried closed, they close in the
+    /// first step: 1 iteration. Over the 30 high-friction runs of
+    /// docs/vessel.md §6 5 865 → 5 741 Newton iterations, the most in one
+    /// increment summed 2 002 → 1 941, μ ≤ 0.6 unchanged. After every
+    /// outer update it saved iterations at μ = 0.3 as well (the default
+    /// run 91 → 89), but the multilayer vessel lost: its layers lift off
+    /// their neighbours for good, the tried branch pulled them back (steps
+    /// of 0.009 and less), and the five-layer test took 323 Newton
+    /// iterations in one stage instead of at most 250.
     pub(super) fn reopened_points(
         &self,
         now: &[PointStatus],
         first: bool,
         symmetric: bool,
     ) -> Vec<usize> {
-        let Some(before) = self.previous_end.as_ref() else {
-            return Vec::new();
-        };
-        if !(first && symmetric && self.options.front_prediction) || before.len() != now.len() {
-            return Vec::new();
+        match self.previous_end.as_ref() {
+            Some(before) if first && symmetric && self.options.front_prediction => {
+                reopened(before, now)
+            }
+            _ => Vec::new(),
         }
-        let open = |s: &PointStatus| s.0 == ContactStatus::Open;
-        now.iter()
-            .zip(before)
-            .enumerate()
-            .filter(|(_, (n, b))| open(n) && !open(b))
-            .map(|(i, _)| i)
-            .collect()
     }
 }
+
+/// The flat points open in `now` and closed in `before` (none if the two
+/// differ in length).
+pub(super) fn reopened(before: &[PointStatus], now: &[PointStatus]) -> Vec<usize> {
+    if before.len() != now.len() {
+        return Vec::new();
+    }
+    let open = |s: &PointStatus| s.0 == ContactStatus::Open;
+    now.iter()
+        .zip(before)
+        .enumerate()
+        .filter(|(_, (n, b))| open(n) && !open(b))
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// The smallest line-search step at which a step that tries closed the
+/// points an outer update opened is kept (see
+/// [`StaticSolver::reopened_points`]); a shorter one is discarded for the
+/// exact step. Where the update opened points that are about to close
+/// again, the step is full (the vessel: 1 in every pass); where they lift
+/// off for good (a layer of the multilayer vessel leaving its neighbour),
+/// the tried branch pulls them back and its step was 0.009 or less, and
+/// keeping it left the five-layer vessel's third layer held by nothing.
+pub(super) const REOPENED_MIN_STEP: f64 = 0.5;
 
 /// How far along a cut-short coupled step the statuses for the next step
 /// are read, as a multiple of the step taken (at most the full step): the
@@ -521,6 +543,21 @@ impl StaticSolver<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_reopened_points_are_open_now_and_were_closed() {
+        let open = (ContactStatus::Open, 0);
+        let sliding_open = (ContactStatus::Open, 1);
+        let stick = (ContactStatus::Stick, 0);
+        let slip = (ContactStatus::Slip, -1);
+        let before = [open, stick, slip, stick, open, slip];
+        let now = [open, open, sliding_open, stick, stick, slip];
+        // 1 and 2 opened (2 sliding on its frozen limit); 4 closed, 0 stayed open
+        assert_eq!(reopened(&before, &now), vec![1, 2]);
+        assert!(reopened(&now, &now).is_empty());
+        // statuses of another interface layout: nothing
+        assert!(reopened(&before[..5], &now).is_empty());
+    }
 
     #[test]
     fn a_front_grows_by_reach_elements_ahead_of_the_points_that_opened() {

@@ -447,7 +447,8 @@ impl StaticSolver<'_> {
                     early_passes.push(passes.len() - 1);
                 }
             }
-            if early_entry.take().is_some() {
+            let after_early = early_entry.take().is_some();
+            if after_early {
                 // back to the frozen passes, their limits set below to the
                 // pressures of the coupled pass
                 if let Some(frozen) = tail.take() {
@@ -544,7 +545,9 @@ impl StaticSolver<'_> {
                 && !tail_tried
                 && frozen_friction
                 && end.as_ref().is_some_and(|e| self.early_coupled_pass(e));
-            self.previous_end.clone_from(&end);
+            // (the next pass tries closed the points that the update after
+            // an early coupled pass opens: see `reopened_points`)
+            self.previous_end = if after_early { end.clone() } else { None };
             last_end = end;
             let quiet = history.iter().skip(1).all(|r| r.changed == 0);
             let settled = !inexact(&history) && (quiet || same_end);

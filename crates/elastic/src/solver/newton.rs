@@ -5,7 +5,7 @@ use tecon_fem::FemError;
 
 use crate::error::{ElasticError, IterationRecord};
 
-use super::front::CoupledNext;
+use super::front::{CoupledNext, REOPENED_MIN_STEP};
 use super::tracker::{PassTracker, failure};
 use super::*;
 
@@ -140,6 +140,9 @@ impl StaticSolver<'_> {
                     accept,
                 )?
             };
+            // (the reopened points tried closed: kept only if they close in a
+            // full step, see `front::REOPENED_MIN_STEP`)
+            let trial = trial.filter(|p| reopened.is_empty() || p.step >= REOPENED_MIN_STEP);
             let fronts = predicted.len() + slips.len() + reopened.len();
             let (du, du_rotated, known_step) = match trial {
                 Some(p) => {
