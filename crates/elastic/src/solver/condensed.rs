@@ -558,11 +558,13 @@ impl StaticSolver<'_> {
             // (as in the full pass, the predicted branches are tried on
             // symmetric tangents only)
             let symmetric = !coupled || obs.counts[2] == 0;
-            let [predicted, sticks, slips] = t.predictions(
-                &self.neighbours,
-                &per_element,
-                &obs.status,
-                symmetric && opts.front_prediction,
+            // (a coupled step cut short where points open or close, stick
+            // or reverse: see below)
+            let trial = self.step_trial(
+                &mut t,
+                (&obs.status, &per_element),
+                (symmetric, true),
+                std::mem::take(&mut contact_next),
             );
             let ray = Ray {
                 gamma: &gamma,
@@ -578,17 +580,9 @@ impl StaticSolver<'_> {
             // next step tries those points closed or open, as the primal-
             // dual active set would (the forced branch's tangent, solved
             // by the dense LU of the Schur system, and the same line search)
-            let next = Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
-            let coupled_trial = !(symmetric || next.is_empty());
-            // (the first step of a pass after an outer update: the points
-            // the update opened tried closed)
-            let reopened = self.reopened_points(&obs.status, t.history.len() == 1, symmetric);
-            let counts = if coupled_trial {
-                next.counts()
-            } else {
-                [predicted.len(), sticks.len(), slips.len(), reopened.len()]
-            };
-            let trial = if coupled_trial {
+            let counts = trial.counts();
+            let tried = if trial.coupled {
+                let next = &trial.next;
                 let mut forced =
                     self.forced_branch(committed, (&next.open, &next.stick, &[]), None, &uf);
                 self.force_closed(&mut forced, &next.close);
@@ -606,11 +600,7 @@ impl StaticSolver<'_> {
                 let at_end: Vec<PointStatus> =
                     self.statuses(&end, committed).iter().map(|s| s.0).collect();
                 Some((du, s_du, step, at_end))
-            } else if predicted.is_empty()
-                && sticks.is_empty()
-                && slips.is_empty()
-                && reopened.is_empty()
-            {
+            } else if trial.frozen_empty() {
                 None
             } else {
                 // the Newton step of the branch where the predicted points
@@ -618,11 +608,11 @@ impl StaticSolver<'_> {
                 // reopened ones are closed): its tangent and its residual
                 let mut forced = self.forced_branch(
                     committed,
-                    (&predicted, &sticks, &slips),
+                    (&trial.predicted, &trial.sticks, &trial.slips),
                     t.damped_points(),
                     &uf,
                 );
-                self.force_closed(&mut forced, &reopened);
+                self.force_closed(&mut forced, &trial.reopened);
                 let (fcp, gp) = self.gamma_force(cx, &uf, &forced, &mut fc, true)?;
                 let gp = gp.ok_or_else(|| FemError::Solver("tangent missing".into()))?;
                 let mut du = residual(&s_delta, &fcp, &cx.fixed);
@@ -643,9 +633,9 @@ impl StaticSolver<'_> {
             };
             // (the reopened points tried closed: kept only if they close in a
             // full step, see `front::REOPENED_MIN_STEP`)
-            let trial = trial.filter(|p| reopened.is_empty() || p.2 >= REOPENED_MIN_STEP);
-            let fronts = predicted.len() + slips.len() + reopened.len();
-            let (du, s_du, step) = match trial {
+            let tried = tried.filter(|p| trial.reopened.is_empty() || p.2 >= REOPENED_MIN_STEP);
+            let fronts = trial.fronts();
+            let (du, s_du, step) = match tried {
                 Some((du, s_du, step, at_end)) => {
                     t.kept_prediction(counts, &at_end);
                     (du, s_du, step)

@@ -59,6 +59,7 @@
 //! descent method on the convex energy of the pass; the converged answer
 //! does not depend on the prediction (the convergence test is unchanged).
 
+use super::tracker::PassTracker;
 use super::*;
 
 /// Elements that share a bottom corner node, per element, of one interface.
@@ -339,6 +340,82 @@ impl StaticSolver<'_> {
                 reopened(before, now)
             }
             _ => Vec::new(),
+        }
+    }
+}
+
+/// What the next Newton step of a pass tries besides the exact step: the
+/// frozen passes' predictions (to open, to stick, to slip; see
+/// [`PassTracker::predictions`]), the points that the update before the
+/// pass opened (first step only, [`StaticSolver::reopened_points`]) and,
+/// in a coupled pass, what its last cut-short step predicted
+/// ([`CoupledNext`]).
+pub(super) struct StepTrial {
+    pub predicted: Vec<usize>,
+    pub sticks: Vec<usize>,
+    pub slips: Vec<usize>,
+    pub reopened: Vec<usize>,
+    pub next: CoupledNext,
+    /// The step is a coupled one on the branch `next` predicted.
+    pub coupled: bool,
+}
+
+impl StepTrial {
+    /// The counts an iteration record keeps (to open, stick, slip, close).
+    pub(super) fn counts(&self) -> [usize; 4] {
+        if self.coupled {
+            self.next.counts()
+        } else {
+            [
+                self.predicted.len(),
+                self.sticks.len(),
+                self.slips.len(),
+                self.reopened.len(),
+            ]
+        }
+    }
+
+    /// No frozen-pass prediction to try.
+    pub(super) fn frozen_empty(&self) -> bool {
+        self.predicted.is_empty()
+            && self.sticks.is_empty()
+            && self.slips.is_empty()
+            && self.reopened.is_empty()
+    }
+
+    /// The predictions whose discarded trial counts as an iteration.
+    pub(super) fn fronts(&self) -> usize {
+        self.predicted.len() + self.slips.len() + self.reopened.len()
+    }
+}
+
+impl StaticSolver<'_> {
+    /// The [`StepTrial`] of the next step of a pass at the statuses `now`
+    /// (`per_element`: points per element of each interface; `symmetric`:
+    /// frozen limits or no slipping point; `coupled_ok`: a coupled step
+    /// may take the predictions `next` of the last one).
+    pub(super) fn step_trial(
+        &self,
+        t: &mut PassTracker,
+        (now, per_element): (&[PointStatus], &[usize]),
+        (symmetric, coupled_ok): (bool, bool),
+        next: CoupledNext,
+    ) -> StepTrial {
+        let [predicted, sticks, slips] = t.predictions(
+            &self.neighbours,
+            per_element,
+            now,
+            symmetric && self.options.front_prediction,
+        );
+        let next = Self::still_to_change(next, now);
+        let coupled = coupled_ok && !symmetric && !next.is_empty();
+        StepTrial {
+            predicted,
+            sticks,
+            slips,
+            reopened: self.reopened_points(now, t.history.len() == 1, symmetric),
+            next,
+            coupled,
         }
     }
 }

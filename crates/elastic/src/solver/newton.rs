@@ -96,55 +96,47 @@ impl StaticSolver<'_> {
                 }
             }
             let symmetric = obs.counts[2] == 0 || opts.friction_bound == FrictionBound::Frozen;
-            let [predicted, sticks, slips] = t.predictions(
-                &self.neighbours,
-                &per_element,
-                &obs.status,
-                symmetric && opts.front_prediction,
-            );
             // (a coupled step of the tail cut short where points open or
             // close: the next step tries them so, as in the condensed pass)
-            let next = Self::still_to_change(std::mem::take(&mut contact_next), &obs.status);
-            let coupled_trial = !symmetric && self.coupled_tail && !next.is_empty();
-            // (the first step of a pass after an outer update: the points
-            // the update opened tried closed)
-            let reopened = self.reopened_points(&obs.status, t.history.len() == 1, symmetric);
-            let counts = if coupled_trial {
-                next.counts()
-            } else {
-                [predicted.len(), sticks.len(), slips.len(), reopened.len()]
-            };
-            let trial = if coupled_trial {
+            let trial = self.step_trial(
+                &mut t,
+                (&obs.status, &per_element),
+                (symmetric, self.coupled_tail),
+                std::mem::take(&mut contact_next),
+            );
+            let counts = trial.counts();
+            let tried = if trial.coupled {
                 self.coupled_predicted_step(
                     f_ext,
                     committed,
                     (&u, &ku, &r),
-                    &next,
+                    &trial.next,
                     &obs.status,
                     accept,
                     &mut contact_next,
                 )?
-            } else if predicted.is_empty()
-                && sticks.is_empty()
-                && slips.is_empty()
-                && reopened.is_empty()
-            {
+            } else if trial.frozen_empty() {
                 None
             } else {
                 self.predicted_step(
                     f_ext,
                     committed,
                     (&u, &ku, &r),
-                    (&predicted, &sticks, &slips, &reopened),
+                    (
+                        &trial.predicted,
+                        &trial.sticks,
+                        &trial.slips,
+                        &trial.reopened,
+                    ),
                     t.damped_points(),
                     accept,
                 )?
             };
             // (the reopened points tried closed: kept only if they close in a
             // full step, see `front::REOPENED_MIN_STEP`)
-            let trial = trial.filter(|p| reopened.is_empty() || p.step >= REOPENED_MIN_STEP);
-            let fronts = predicted.len() + slips.len() + reopened.len();
-            let (du, du_rotated, known_step) = match trial {
+            let tried = tried.filter(|p| trial.reopened.is_empty() || p.step >= REOPENED_MIN_STEP);
+            let fronts = trial.fronts();
+            let (du, du_rotated, known_step) = match tried {
                 Some(p) => {
                     t.kept_prediction(counts, &p.at_end);
                     next_ku = Some(p.ku_end);
