@@ -38,9 +38,10 @@ pub struct JointState {
     /// sets it on a copy of the committed states, used for a predicted
     /// Newton step only.
     pub forced_closed: bool,
-    /// Newton prediction hook, never committed: when true, a closed point
-    /// whose slip limit is positive sticks whatever its trial traction
-    /// (the stick branch of the return mapping continued past the limit).
+    /// Newton prediction hook, never committed: when true, a point whose
+    /// slip limit is positive (closed, or open under a frozen limit)
+    /// sticks whatever its trial traction (the stick branch of the return
+    /// mapping continued past the limit).
     /// A solver sets it on a copy of the committed states, used for a
     /// predicted Newton step only.
     pub forced_stick: bool,
@@ -71,6 +72,17 @@ pub enum FrictionBound {
     /// pressure equals the contact pressure and the answer is the
     /// Mohr–Coulomb one.
     Frozen,
+}
+
+/// The slip limit `s` of the state `st`: infinite where a positive limit
+/// is forced to stick ([`JointState::forced_stick`]).
+#[inline]
+fn limit_of(s: f64, st: &JointState) -> f64 {
+    if st.forced_stick && s > 0.0 {
+        f64::INFINITY
+    } else {
+        s
+    }
 }
 
 /// The normal response at `du_n` for the state `st` (its contact branch
@@ -356,7 +368,10 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             // Frozen limit with a stored pressure: the friction part of the
             // limit stays on while the faces open (see the type's doc), so
             // the shear traction does not jump at opening.
-            let s_open = self.tan_phi * committed.friction_pressure.max(0.0);
+            let s_open = limit_of(
+                self.tan_phi * committed.friction_pressure.max(0.0),
+                committed,
+            );
             if self.bound == FrictionBound::Frozen && s_open > 0.0 {
                 let (tau, k_t, slip) = self.tresca(jump.x, committed.slip, s_open);
                 // sliding on the limit: the same tangent as a closed
@@ -406,11 +421,7 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             }
             FrictionBound::Frozen => (self.strength(-committed.friction_pressure), 0.0),
         };
-        let s = if committed.forced_stick && s > 0.0 {
-            f64::INFINITY
-        } else {
-            s
-        };
+        let s = limit_of(s, committed);
         let tau_trial = self.k_s * (jump.x - committed.slip);
         // A point without strength (s = 0: frictionless, or no pressure and
         // no cohesion) slides freely: τ = 0 either way, and calling it

@@ -296,8 +296,6 @@ impl StaticSolver<'_> {
             state.lambda_n = f64::NEG_INFINITY;
         });
         each_point(&mut forced, stick, |_, _, state| {
-            // finite: 0 · ∞ would make a frictionless limit NaN
-            state.friction_pressure = 1e300;
             state.forced_stick = true;
         });
         forced
@@ -407,7 +405,7 @@ impl StaticSolver<'_> {
             now,
             symmetric && self.options.front_prediction,
         );
-        let next = Self::still_to_change(next, now);
+        let next = next.still_to_change(now);
         let coupled = coupled_ok && !symmetric && !next.is_empty();
         StepTrial {
             predicted,
@@ -462,22 +460,6 @@ impl StaticSolver<'_> {
         each_point(states, list, |_, _, state| state.forced_closed = true);
     }
 
-    /// Of the points that a cut-short coupled step predicted, those still
-    /// open (to close), still closed (to open) and still slipping (to
-    /// stick) at the statuses `now`.
-    pub(super) fn still_to_change(next: CoupledNext, now: &[PointStatus]) -> CoupledNext {
-        let is_open = |i: &usize| now[*i].0 == ContactStatus::Open;
-        CoupledNext {
-            close: next.close.into_iter().filter(is_open).collect(),
-            open: next.open.into_iter().filter(|i| !is_open(i)).collect(),
-            stick: next
-                .stick
-                .into_iter()
-                .filter(|i| now[*i].0 == ContactStatus::Slip)
-                .collect(),
-        }
-    }
-
     /// What a coupled step cut short at `step` predicts for the next step,
     /// `at(α)` being the iterate at α times the step along its ray and
     /// `now` the statuses where it starts: the points whose contact
@@ -494,12 +476,13 @@ impl StaticSolver<'_> {
     ) -> CoupledNext {
         let mut next = CoupledNext::default();
         let reach = (COUPLED_PREDICTION_REACH * step).min(1.0);
-        for (i, (there, here)) in self
-            .statuses(&at(reach), committed)
-            .iter()
-            .zip(now)
-            .enumerate()
-        {
+        let full = self.statuses(&at(1.0), committed);
+        let at_reach = if reach < 1.0 {
+            self.statuses(&at(reach), committed)
+        } else {
+            full.clone()
+        };
+        for (i, (there, here)) in at_reach.iter().zip(now).enumerate() {
             let (o_here, o_there) = (
                 here.0 == ContactStatus::Open,
                 there.0.0 == ContactStatus::Open,
@@ -510,12 +493,7 @@ impl StaticSolver<'_> {
                 next.open.push(i);
             }
         }
-        for (i, (there, here)) in self
-            .statuses(&at(1.0), committed)
-            .iter()
-            .zip(now)
-            .enumerate()
-        {
+        for (i, (there, here)) in full.iter().zip(now).enumerate() {
             if here.0 == ContactStatus::Slip
                 && (there.0.0 == ContactStatus::Stick || there.0.1 == -here.1)
             {
@@ -556,6 +534,22 @@ pub(super) struct CoupledNext {
 }
 
 impl CoupledNext {
+    /// Of the points that a cut-short coupled step predicted, those still
+    /// open (to close), still closed (to open) and still slipping (to
+    /// stick) at the statuses `now`.
+    pub(super) fn still_to_change(self, now: &[PointStatus]) -> CoupledNext {
+        let is_open = |i: &usize| now[*i].0 == ContactStatus::Open;
+        CoupledNext {
+            close: self.close.into_iter().filter(is_open).collect(),
+            open: self.open.into_iter().filter(|i| !is_open(i)).collect(),
+            stick: self
+                .stick
+                .into_iter()
+                .filter(|i| now[*i].0 == ContactStatus::Slip)
+                .collect(),
+        }
+    }
+
     /// The counts as an iteration record keeps them: to open, to stick, to
     /// slip (none), to close.
     pub(super) fn counts(&self) -> [usize; 4] {
