@@ -975,6 +975,25 @@ fn a_forced_stick_continues_the_stick_branch_past_the_slip_limit() {
             assert!(fd_error(&law, &past, &forced, 1e-13, K) < FD_TOL);
         }
     }
+    // open under a frozen limit (the friction part stays on at opening):
+    // forced, the point sticks with the trial traction past that limit too
+    let st = JointState {
+        slip: 1.0e-7,
+        friction_pressure: p,
+        ..JointState::default()
+    };
+    let forced = JointState {
+        forced_stick: true,
+        ..st
+    };
+    let open_past = Vector2::new(st.slip + 3.0 * limit / K, 1.0e-6);
+    let a = frozen.evaluate(&open_past, &st);
+    assert_eq!(a.status, ContactStatus::Open);
+    assert_relative_eq!(a.traction.x, limit, max_relative = 1e-9);
+    let b = frozen.evaluate(&open_past, &forced);
+    assert_eq!(b.status, ContactStatus::Open);
+    assert_relative_eq!(b.traction.x, 3.0 * limit, max_relative = 1e-9);
+    assert_eq!(b.tangent[(0, 0)], K);
     // frictionless: no strength, nothing to stick with
     let free = friction_law(0.0, 0.0);
     let st = JointState {
