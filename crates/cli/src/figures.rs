@@ -704,6 +704,7 @@ mod tests {
             jump: [0.0, 0.0],
             traction: [0.0, -p],
             slip: 0.0,
+            debonded: false,
             status,
             interface: 0,
             element: 0,

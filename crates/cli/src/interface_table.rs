@@ -227,6 +227,7 @@ mod tests {
             traction: [0.0, -p],
             status,
             slip: 0.0,
+            debonded: false,
         }
     }
 

@@ -506,6 +506,8 @@ pub fn summary(run: &VesselRun) -> Value {
             .iter()
             .filter(|p| p.status == tecon_contact::ContactStatus::Slip)
             .count();
+        // points whose cohesion broke (a joint with cohesion; 0 without)
+        let debonded = last.interface.iter().filter(|p| p.debonded).count();
         v["final"] = json!({
             "time": last.time,
             "hoop_mean": hoop_keys(&last.stress),
@@ -517,6 +519,7 @@ pub fn summary(run: &VesselRun) -> Value {
             "interface_points": {
                 "open": open,
                 "slip": slip,
+                "debonded": debonded,
                 "total": last.interface.len(),
                 "counted": "integration points of the interface elements (with nodal integration a node shared by two elements counts twice); interface_nodes counts the rows of interface_final.csv",
             },
@@ -626,6 +629,12 @@ pub fn report(run: &VesselRun, v: &Value) -> String {
             "final interface: {} positions in interface_final.csv ({} open, {} slip), from {} integration points of the interface elements ({} open, {} slip; with nodal integration a node shared by two elements counts twice there, once in the table, with the more open status)\n",
             n["total"], n["open"], n["slip"], p["total"], p["open"], p["slip"]
         );
+        if p["debonded"].as_u64().is_some_and(|d| d > 0) {
+            s += &format!(
+                "the joint's cohesion broke for good at {} of the {} integration points (faces open at an outer update: debonded)\n",
+                p["debonded"], p["total"]
+            );
+        }
     }
     let ratio_ps = f("/analytical_variants/plane_strain_consistent/contact_pressure")
         / f("/analytical_variants/plane_stress_classical/contact_pressure");
@@ -942,7 +951,7 @@ pub struct VesselArgs {
     /// only; default 0.3).
     #[arg(long, allow_hyphen_values = true)]
     pub friction: Option<f64>,
-    /// Cohesion of the joint, Pa (frictional only; default 0).
+    /// Cohesion of the joint, Pa (frictional only; default 0): a bond in shear that breaks for good where the faces open.
     #[arg(long, allow_hyphen_values = true)]
     pub cohesion: Option<f64>,
     /// Internal (operating) pressure applied after cooling, Pa.

@@ -751,6 +751,7 @@ mod tests {
             traction: [0.0, -p],
             status: ContactStatus::Stick,
             slip: 0.0,
+            debonded: false,
         }
     }
 

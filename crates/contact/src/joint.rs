@@ -24,6 +24,11 @@ pub struct JointState {
     /// [`FrictionBound::Frozen`] puts in its limit `c + p_f tan φ`; updated
     /// only by [`ContactLaw::update_friction`].
     pub friction_pressure: f64,
+    /// The point's cohesion is gone ([`MohrCoulomb`], "Debonding"): it was
+    /// open at a [`ContactLaw::update_friction`], and its slip limit is
+    /// `σ_c tan φ` alone from then on. False (bonded) from the unloaded
+    /// state; set only by that update, and never unset.
+    pub cohesion_lost: bool,
     /// Newton damping hook, never committed: when true, a slipping point of
     /// a [`FrictionBound::Frozen`] law reports the secant shear stiffness
     /// `k_s s / |τ_trial|` (between the stick value `k_s` and the exact 0)
@@ -198,14 +203,24 @@ impl<N: NormalLaw> ContactLaw for ElasticJoint<N> {
 /// so `g_s` follows `Δu_t` and the shear spring is unstretched when the
 /// faces close again (this free sliding is not added to
 /// [`JointState::accumulated_slip`]). Exception, [`FrictionBound::Frozen`]:
-/// a point whose stored pressure `p_f` is positive keeps the friction part
-/// `p_f tan φ` of its limit (not the cohesion) while open, as a Tresca
-/// shear (return mapping as above, normal traction 0), so the shear
-/// traction is continuous at opening and a Newton pass minimises a convex
-/// energy with a continuous gradient (a limit that vanished at opening made
-/// the exact line search stop at the kink of points about to open). At the
-/// fixed point of the passes an open point has `p_f = 0` (the pressure it
-/// carries) and transmits nothing, as above. With a bilateral normal law
+/// an open point keeps its frozen limit `max(0, c_f + p_f tan φ)` (stored
+/// pressure `p_f`, held cohesion `c_f`) while open, as a Tresca shear
+/// (return mapping as above, normal traction 0), so the shear traction is
+/// continuous at opening and a Newton pass minimises a convex energy with a
+/// continuous gradient (a limit that vanished at opening made the exact
+/// line search stop at the kink of points about to open). At the fixed
+/// point of the passes an open point has `p_f = 0` (the pressure it
+/// carries) and `c_f = 0` (below), and transmits nothing, as above.
+///
+/// **Debonding.** The cohesion is a bond that breaks for good: a point
+/// that is open at a friction update ([`ContactLaw::update_friction`],
+/// which frozen-limit solvers call between passes and at the end of an
+/// increment) loses it ([`JointState::cohesion_lost`]), and from then on
+/// its limit is `σ_c tan φ` alone, closed or open, frozen or coupled. A
+/// bond that healed whenever the faces touched let a point at the edge of
+/// a lift-off flip for ever between open without shear and closed with
+/// the cohesion (no equilibrium exists for such a point). Without
+/// cohesion the flag changes nothing. With a bilateral normal law
 /// ([`crate::LinearNormal`]) the strength falls linearly in tension and is
 /// cut off at zero beyond the apex `σ = c / tan φ`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -283,6 +298,22 @@ impl<N: NormalLaw> MohrCoulomb<N> {
     pub fn tan_phi(&self) -> f64 {
         self.tan_phi
     }
+    /// The cohesion an open point keeps in its frozen limit: `c` unless
+    /// the point was open at the last friction update
+    /// ([`JointState::cohesion_lost`]).
+    #[inline]
+    fn held_cohesion(&self, st: &JointState) -> f64 {
+        if st.cohesion_lost { 0.0 } else { self.cohesion }
+    }
+
+    /// The frozen slip limit of the state `st`, the same closed or open:
+    /// `max(0, c_f + p_f tan φ)` with the stored pressure `p_f` and the
+    /// held cohesion `c_f` (see [`MohrCoulomb::held_cohesion`]).
+    #[inline]
+    fn frozen_limit(&self, st: &JointState) -> f64 {
+        (self.held_cohesion(st) + self.tan_phi * st.friction_pressure).max(0.0)
+    }
+
     /// Shear strength `s = max(0, c + σ_c tan φ)` at normal traction `σ`
     /// (tension positive).
     pub fn strength(&self, sigma: f64) -> f64 {
@@ -310,7 +341,7 @@ impl<N: NormalLaw> MohrCoulomb<N> {
         if nr.stage == NormalStage::Separation {
             return None;
         }
-        let s = self.strength(-committed.friction_pressure);
+        let s = self.frozen_limit(committed);
         let tau_trial = self.k_s * (jump.x - committed.slip);
         if s <= 0.0 || tau_trial == 0.0 || !tau_trial.is_finite() {
             return None;
@@ -368,10 +399,7 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
             // Frozen limit with a stored pressure: the friction part of the
             // limit stays on while the faces open (see the type's doc), so
             // the shear traction does not jump at opening.
-            let s_open = limit_of(
-                self.tan_phi * committed.friction_pressure.max(0.0),
-                committed,
-            );
+            let s_open = limit_of(self.frozen_limit(committed), committed);
             if self.bound == FrictionBound::Frozen && s_open > 0.0 {
                 let (tau, k_t, slip) = self.tresca(jump.x, committed.slip, s_open);
                 // sliding on the limit: the same tangent as a closed
@@ -412,14 +440,14 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
         }
         let (s, ds_dun) = match self.bound {
             FrictionBound::Coupled => {
-                let s_raw = self.cohesion - nr.sigma * self.tan_phi;
+                let s_raw = self.held_cohesion(committed) - nr.sigma * self.tan_phi;
                 if s_raw > 0.0 {
                     (s_raw, -self.tan_phi * k_n)
                 } else {
                     (0.0, 0.0)
                 }
             }
-            FrictionBound::Frozen => (self.strength(-committed.friction_pressure), 0.0),
+            FrictionBound::Frozen => (self.frozen_limit(committed), 0.0),
         };
         let s = limit_of(s, committed);
         let tau_trial = self.k_s * (jump.x - committed.slip);
@@ -476,8 +504,10 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
     }
 
     /// Stores the compressive normal traction at `jump` (with the state's
-    /// multiplier) as the pressure of the frozen slip limit; the change is
-    /// that of the limit, `tan φ |Δp_f|` (Pa). No change in
+    /// multiplier) as the pressure of the frozen slip limit, and takes the
+    /// cohesion of a point open at `jump` for good (see the type's doc,
+    /// "Debonding"); the change is that of the limit, `tan φ |Δp_f|`, plus
+    /// `c` where the cohesion goes (Pa). No change in
     /// [`FrictionBound::Coupled`] mode.
     fn update_friction(&self, jump: &Vector2<f64>, state: &JointState) -> Augmentation<JointState> {
         if self.bound == FrictionBound::Coupled {
@@ -486,13 +516,23 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
                 multiplier_change: 0.0,
             };
         }
-        let p = -self.normal.normal(jump.y, state.lambda_n).sigma;
+        let nr = self.normal.normal(jump.y, state.lambda_n);
+        let p = -nr.sigma;
+        // debonding for good: a point open at an update keeps no cohesion
+        let lost = state.cohesion_lost || nr.stage == NormalStage::Separation;
+        // (a cohesion lost or regained changes the open limit by c)
+        let cohesion_change = if lost == state.cohesion_lost {
+            0.0
+        } else {
+            self.cohesion
+        };
         Augmentation {
             state: JointState {
                 friction_pressure: p,
+                cohesion_lost: lost,
                 ..*state
             },
-            multiplier_change: self.tan_phi * (p - state.friction_pressure).abs(),
+            multiplier_change: self.tan_phi * (p - state.friction_pressure).abs() + cohesion_change,
         }
     }
 }

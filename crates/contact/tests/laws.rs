@@ -799,7 +799,8 @@ fn an_open_point_sliding_on_a_frozen_limit_takes_the_slip_tangents() {
         friction_pressure: 2.0e6,
         ..Default::default()
     };
-    let s_open = 2.0e6 * 30.0_f64.to_radians().tan();
+    // (the cohesion held: the point was closed at the last update)
+    let s_open = 0.1e6 + 2.0e6 * 30.0_f64.to_radians().tan();
     let k_s = frozen.k_s();
     // opening 1 µm, sliding 3 × the elastic shear reach
     let jump = Vector2::new(3.0 * s_open / k_s, 1e-6);
@@ -825,59 +826,138 @@ fn an_open_point_sliding_on_a_frozen_limit_takes_the_slip_tangents() {
     assert_relative_eq!(at_kink.traction.x, s_open, max_relative = 1e-14);
 }
 
-/// Frozen limit, stored pressure p_f > 0: the friction part p_f tan φ of
-/// the limit stays on while the faces open (not the cohesion), so the shear
-/// traction is continuous across the opening; the open point's tangent
-/// matches finite differences in stick and in slip; with p_f = 0 an open
-/// point carries nothing, as before.
+/// Frozen limit, stored pressure p_f > 0 and the cohesion held (the point
+/// was closed at the last update): the whole limit c + p_f tan φ stays on
+/// while the faces open, so the shear traction is continuous across the
+/// opening; the open point's tangent matches finite differences in stick
+/// and in slip. The update after which the point is open stores its
+/// pressure, 0, and takes its cohesion: then it carries nothing.
 #[test]
-fn frozen_limit_keeps_its_friction_part_while_opening() {
+fn frozen_limit_stays_on_while_opening() {
     let (c, phi) = (0.1e6, 30.0_f64);
     let frozen = friction_law(c, phi).with_friction_bound(FrictionBound::Frozen);
     let tan = phi.to_radians().tan();
     let p_f = 2.0e6;
+    let limit = c + p_f * tan;
     let st = JointState {
         friction_pressure: p_f,
         slip: 1e-6,
         ..Default::default()
     };
-    // sheared past the friction limit: slip on both sides of the opening
-    let du_t = 1e-6 + 5.0 * p_f * tan / frozen.k_s();
+    // sheared past the limit: slip on both sides of the opening
+    let du_t = 1e-6 + 5.0 * limit / frozen.k_s();
     let closed = frozen.evaluate(&Vector2::new(du_t, -1e-15), &st);
     let open = frozen.evaluate(&Vector2::new(du_t, 1e-15), &st);
     assert_eq!(closed.status, ContactStatus::Slip);
     assert_eq!(open.status, ContactStatus::Open);
-    assert_relative_eq!(closed.traction.x, c + p_f * tan, max_relative = 1e-14);
-    assert_relative_eq!(open.traction.x, p_f * tan, max_relative = 1e-14);
-    // only the cohesion jumps (zero in the judged cases)
-    assert_relative_eq!(closed.traction.x - open.traction.x, c, max_relative = 1e-9);
-    // open, slipping: τ = p_f tan φ, slip returned to the limit, exact tangent
+    assert_relative_eq!(closed.traction.x, limit, max_relative = 1e-14);
+    assert_eq!(open.traction.x, closed.traction.x);
+    // open, slipping: τ on the limit, slip returned to it, exact tangent
     let j_slip = Vector2::new(du_t, 1e-6);
     let r = frozen.evaluate(&j_slip, &st);
     assert_eq!((r.status, r.traction.y), (ContactStatus::Open, 0.0));
     assert_relative_eq!(
         r.state.slip,
-        du_t - p_f * tan / frozen.k_s(),
+        du_t - limit / frozen.k_s(),
         max_relative = 1e-12
     );
     assert!(fd_error(&frozen, &j_slip, &st, 1e-13, K) < FD_TOL);
     assert_eq!(r.tangent, Matrix2::zeros());
     // open, sticking: τ = k_s (Δu_t − g_s), tangent k_s
-    let j_stick = Vector2::new(1e-6 + 0.5 * p_f * tan / frozen.k_s(), 1e-6);
+    let j_stick = Vector2::new(1e-6 + 0.5 * limit / frozen.k_s(), 1e-6);
     let r = frozen.evaluate(&j_stick, &st);
     assert_eq!(r.status, ContactStatus::Open);
-    assert_relative_eq!(r.traction.x, 0.5 * p_f * tan, max_relative = 1e-9);
+    assert_relative_eq!(r.traction.x, 0.5 * limit, max_relative = 1e-9);
     assert_eq!(r.tangent[(0, 0)], frozen.k_s());
     assert!(fd_error(&frozen, &j_stick, &st, 1e-13, K) < FD_TOL);
-    // the update stores the open point's pressure, 0: then it carries nothing
+    // the update stores the open point's pressure, 0, and its cohesion is
+    // gone: then it carries nothing; the change is the limit's, p_f tan φ + c
     let a = frozen.update_friction(&j_slip, &st);
     assert_eq!(a.state.friction_pressure, 0.0);
+    assert!(a.state.cohesion_lost);
+    assert_relative_eq!(a.multiplier_change, limit, max_relative = 1e-14);
     let r = frozen.evaluate(&j_slip, &a.state);
     assert_eq!(r.traction, Vector2::zeros());
     assert_eq!(r.state.slip, j_slip.x);
-    // the coupled law is unchanged: open means no traction
+    // the coupled law: open means no traction
     let coupled = friction_law(c, phi);
     assert_eq!(coupled.evaluate(&j_slip, &st).traction, Vector2::zeros());
+}
+
+/// Debonding: the cohesion of a point open at a friction update is gone
+/// for good. Closed again, it has the friction limit p tan φ alone, in the
+/// frozen and in the coupled law, and later updates do not give the
+/// cohesion back (a bond that healed when the faces touched again let a
+/// point at the edge of a lift-off flip for ever between open without
+/// shear and closed with the cohesion: the vessel with c = 0.1 MPa on g0
+/// found no equilibrium). A closed point's update keeps its cohesion, and
+/// without cohesion the update is the friction-pressure update alone.
+#[test]
+fn a_point_open_at_an_update_loses_its_cohesion_for_good() {
+    let (c, phi) = (0.1e6, 30.0_f64);
+    let tan = phi.to_radians().tan();
+    let frozen = friction_law(c, phi).with_friction_bound(FrictionBound::Frozen);
+    let coupled = friction_law(c, phi);
+    let st = JointState {
+        friction_pressure: 1.0e6,
+        ..Default::default()
+    };
+    let closing = Vector2::new(0.0, -1e-6);
+    let p = -frozen.normal_law().normal(closing.y, 0.0).sigma;
+    // closed at the update: the cohesion stays
+    let kept = frozen.update_friction(&closing, &st);
+    assert!(!kept.state.cohesion_lost);
+    assert_relative_eq!(
+        kept.multiplier_change,
+        tan * (p - 1.0e6).abs(),
+        max_relative = 1e-14
+    );
+    // open at the update: gone
+    let lost = frozen.update_friction(&Vector2::new(0.0, 1e-6), &st).state;
+    assert!(lost.cohesion_lost);
+    // closed again, sheared far: on the friction limit alone
+    let sheared = Vector2::new(1.0, -1e-6);
+    let fr = frozen.evaluate(&sheared, &lost);
+    assert_eq!(fr.status, ContactStatus::Slip);
+    assert_relative_eq!(
+        fr.traction.x,
+        lost.friction_pressure * tan,
+        max_relative = 1e-14
+    );
+    let co = coupled.evaluate(&sheared, &lost);
+    assert_relative_eq!(co.traction.x, -co.traction.y * tan, max_relative = 1e-14);
+    let bonded = coupled.evaluate(&sheared, &st);
+    assert_relative_eq!(
+        bonded.traction.x,
+        c - bonded.traction.y * tan,
+        max_relative = 1e-14
+    );
+    // a later update with the faces closed does not bring it back, and
+    // changes the limit by its pressure part alone
+    let again = frozen.update_friction(&closing, &lost);
+    assert!(again.state.cohesion_lost);
+    assert_relative_eq!(
+        again.multiplier_change,
+        tan * (p - lost.friction_pressure).abs(),
+        max_relative = 1e-14
+    );
+    // no cohesion: the flag changes nothing
+    let plain = friction_law(0.0, phi).with_friction_bound(FrictionBound::Frozen);
+    let a = plain.update_friction(&Vector2::new(0.0, 1e-6), &st);
+    assert_eq!(a.multiplier_change, tan * 1.0e6);
+    assert!(a.state.cohesion_lost);
+    let flagged = JointState {
+        cohesion_lost: true,
+        ..st
+    };
+    for j in [Vector2::new(1.0, 1e-6), Vector2::new(1.0, -1e-6)] {
+        let (x, y) = (plain.evaluate(&j, &st), plain.evaluate(&j, &flagged));
+        assert_eq!(
+            (x.traction, x.tangent, x.status),
+            (y.traction, y.tangent, y.status)
+        );
+        assert_eq!(x.state.slip, y.state.slip);
+    }
 }
 
 /// The contact branch continued into tension (`normal_closed`, the branch a

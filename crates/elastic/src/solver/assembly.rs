@@ -814,6 +814,7 @@ impl StaticSolver<'_> {
                     traction: [p.traction.x, p.traction.y],
                     status: p.status,
                     slip: p.slip,
+                    debonded: p.state.cohesion_lost,
                 });
             }
         }

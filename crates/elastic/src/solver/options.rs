@@ -292,4 +292,7 @@ pub struct InterfacePointResult {
     pub status: ContactStatus,
     /// Plastic slip g_s (m).
     pub slip: f64,
+    /// The joint's cohesion is gone here for good (debonded; see
+    /// `tecon_contact::JointState::cohesion_lost`).
+    pub debonded: bool,
 }
