@@ -303,6 +303,9 @@ impl StaticSolver<'_> {
             !(frozen_friction && self.options.coupled_tail) || self.outer_floor > 0.0;
         let mut tail_passes = Vec::new();
         let mut early_passes = Vec::new();
+        // the multiplier updates of settled passes (see `Extrapolation`)
+        let mut extrapolation = Extrapolation::default();
+        let mut extrapolations = 0;
         // the early coupled pass: tried in this increment, and running
         let mut early_tried = false;
         // while the early coupled pass runs: the states it started from
@@ -473,6 +476,9 @@ impl StaticSolver<'_> {
             }
             let (max_friction_change, max_change) =
                 self.update_outer(&u, &mut committed, (frozen_friction, al.is_some()));
+            // (an update of the multipliers alone: frictionless, or the
+            // coupled tail)
+            let multipliers_alone = al.is_some() && !frozen_friction;
             let scale = max_p.max(f64::MIN_POSITIVE);
             // the floor bounds the estimated distance to the fixed point (see
             // `StaticSolver::set_outer_tolerance_floor`)
@@ -526,6 +532,25 @@ impl StaticSolver<'_> {
             }
             if relaxing {
                 relax_friction(&start, &mut committed);
+            }
+            // Multiplier updates of passes that all end with the same
+            // statuses are a linear fixed-point iteration: once it
+            // contracts at a steady rate, the update is extrapolated to its
+            // limit (see `Extrapolation`). The stopping test above is on
+            // the plain change, so only the path changes.
+            if multipliers_alone && !inexact(&history) {
+                let now: Vec<super::PointStatus> = self
+                    .statuses(&u, &start)
+                    .into_iter()
+                    .map(|(s, _)| s)
+                    .collect();
+                let quiet_pass = history.iter().skip(1).all(|r| r.changed == 0);
+                if let Some(w) = extrapolation.observe(now, quiet_pass, max_change) {
+                    extrapolate_multipliers(&start, &mut committed, w);
+                    extrapolations += 1;
+                }
+            } else {
+                extrapolation = Extrapolation::default();
             }
             // A pass solved exactly whose statuses did not change after its
             // first iterate, or that ended with the statuses the pass before
@@ -600,6 +625,7 @@ impl StaticSolver<'_> {
                 coupled: false,
                 coupled_tail_passes: tail_passes,
                 early_coupled_passes: early_passes,
+                multiplier_extrapolations: extrapolations,
             },
         ))
     }
@@ -721,4 +747,155 @@ fn same_history(a: &[IterationRecord], b: &[IterationRecord]) -> bool {
                     <= 1e-6 * x.residual.abs().max(y.residual.abs())
                     || !(x.residual.is_finite() || y.residual.is_finite()))
         })
+}
+
+/// Steady-rate extrapolation of the augmented-Lagrangian multiplier
+/// updates. Where the statuses no longer change between passes, the
+/// Uzawa update λ ← λ + k_n g(λ) is an affine map, and its changes shrink
+/// by a steady factor ρ; where the penalty is soft against the structure
+/// around it (the fused weld's corner on g0: ρ ≈ 0.78) that takes some
+/// thirty passes to 1e-4. After three plain updates of passes that end with
+/// the same statuses, each quiet after its first iterate, whose two
+/// ratios agree (within [`EXTRAPOLATION_RATIO_SPREAD`] of each other, both
+/// in [[`EXTRAPOLATION_MIN_RATIO`], [`EXTRAPOLATION_MAX_RATIO`]]), the
+/// update is taken w = 1/(1 − ρ) times (the sum of the geometric series of
+/// the changes still to come, at most [`EXTRAPOLATION_MAX_WEIGHT`]); then
+/// three plain updates again before the next.
+#[derive(Debug, Default)]
+pub(super) struct Extrapolation {
+    statuses: Option<Vec<super::PointStatus>>,
+    changes: Vec<f64>,
+}
+
+impl Extrapolation {
+    /// The update after a pass that ended with `statuses` (`quiet`: no
+    /// status changed after its first iterate) changed the multipliers by
+    /// `change`: the weight to take it with, if it is time to extrapolate.
+    pub(super) fn observe(
+        &mut self,
+        statuses: Vec<super::PointStatus>,
+        quiet: bool,
+        change: f64,
+    ) -> Option<f64> {
+        if !quiet || self.statuses.as_ref() != Some(&statuses) {
+            self.changes.clear();
+        }
+        self.statuses = Some(statuses);
+        if !quiet {
+            return None;
+        }
+        self.changes.push(change);
+        let n = self.changes.len();
+        if n < 3 {
+            return None;
+        }
+        let c = &self.changes[n - 3..];
+        if c[0] <= 0.0 || c[1] <= 0.0 {
+            return None;
+        }
+        let (r0, r1) = (c[1] / c[0], c[2] / c[1]);
+        let steady = (EXTRAPOLATION_MIN_RATIO..=EXTRAPOLATION_MAX_RATIO).contains(&r0)
+            && (EXTRAPOLATION_MIN_RATIO..=EXTRAPOLATION_MAX_RATIO).contains(&r1)
+            && (r1 - r0).abs() <= EXTRAPOLATION_RATIO_SPREAD * r1;
+        if !steady {
+            return None;
+        }
+        self.changes.clear();
+        Some((1.0 / (1.0 - r1)).min(EXTRAPOLATION_MAX_WEIGHT))
+    }
+}
+
+/// Smallest steady ratio of successive multiplier changes that
+/// [`Extrapolation`] extrapolates (faster loops end within a few passes).
+const EXTRAPOLATION_MIN_RATIO: f64 = 0.3;
+/// Largest such ratio (a loop near ρ = 1 is not linear enough to trust).
+const EXTRAPOLATION_MAX_RATIO: f64 = 0.95;
+/// How far apart the two ratios may be, relative to the last.
+const EXTRAPOLATION_RATIO_SPREAD: f64 = 0.1;
+/// Largest extrapolation weight.
+const EXTRAPOLATION_MAX_WEIGHT: f64 = 10.0;
+
+/// The multipliers of `updated` (the plain update of `old`) moved `w`
+/// times the update, kept ≥ 0.
+fn extrapolate_multipliers(old: &[PointStates], updated: &mut [PointStates], w: f64) {
+    for (a, b) in old.iter().zip(updated.iter_mut()) {
+        let per = b.per_element();
+        let mut flat = b.as_slice().to_vec();
+        for (s, o) in flat.iter_mut().zip(a.as_slice()) {
+            s.lambda_n = (o.lambda_n + w * (s.lambda_n - o.lambda_n)).max(0.0);
+        }
+        *b = PointStates::from_flat(per, flat);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn closed(n: usize) -> Vec<super::super::PointStatus> {
+        vec![(ContactStatus::Stick, 0); n]
+    }
+
+    /// A scalar affine map λ ← a λ + b (a multiplier update at settled
+    /// statuses) converges linearly with ratio a; the third update of a
+    /// steady run is extrapolated to the fixed point b / (1 − a) exactly,
+    /// and the next extrapolation waits for three plain updates again.
+    #[test]
+    fn a_steady_linear_update_is_extrapolated_to_its_fixed_point() {
+        let (a, b): (f64, f64) = (0.8, 1.0);
+        let mut e = Extrapolation::default();
+        let mut lambda: f64 = 0.0;
+        let mut weights = Vec::new();
+        for k in 0..6 {
+            let next = a * lambda + b;
+            let w = e.observe(closed(4), true, (next - lambda).abs());
+            weights.push(w);
+            lambda = match w {
+                Some(w) => lambda + w * (next - lambda),
+                None => next,
+            };
+            if k == 2 {
+                assert!((lambda - b / (1.0 - a)).abs() < 1e-12, "λ = {lambda}");
+            }
+        }
+        assert!((weights[2].unwrap() - 5.0).abs() < 1e-12);
+        assert_eq!(weights.iter().filter(|w| w.is_some()).count(), 1);
+    }
+
+    /// No extrapolation where the statuses changed between the passes, a
+    /// pass changed statuses after its first iterate, the ratios differ,
+    /// or the loop contracts fast (ρ < 0.3) or hardly (ρ > 0.95).
+    #[test]
+    fn only_a_steady_run_of_settled_passes_is_extrapolated() {
+        let run = |changes: &[f64], statuses: &[usize], quiet: &[bool]| {
+            let mut e = Extrapolation::default();
+            changes
+                .iter()
+                .zip(statuses)
+                .zip(quiet)
+                .map(|((&c, &s), &q)| {
+                    let mut st = closed(4);
+                    st[s].0 = ContactStatus::Open;
+                    e.observe(st, q, c)
+                })
+                .collect::<Vec<_>>()
+        };
+        let geometric = [1.0, 0.8, 0.64, 0.512];
+        assert!(run(&geometric, &[0; 4], &[true; 4])[2].is_some());
+        // the statuses moved at the second update: three from there on
+        let moved = run(&geometric, &[0, 1, 1, 1], &[true; 4]);
+        assert_eq!(moved[..3], [None; 3]);
+        assert!(moved[3].is_some_and(|w| (w - 5.0).abs() < 1e-12));
+        // a pass that changed statuses
+        let noisy = run(&geometric, &[0; 4], &[true, false, true, true]);
+        assert_eq!(noisy, vec![None; 4]);
+        // unsteady ratios, fast and slow loops
+        for changes in [
+            [1.0, 0.8, 0.4, 0.3],
+            [1.0, 0.2, 0.04, 0.008],
+            [1.0, 0.99, 0.9801, 0.97],
+        ] {
+            assert_eq!(run(&changes, &[0; 4], &[true; 4]), vec![None; 4]);
+        }
+    }
 }
