@@ -800,9 +800,17 @@ fn early_coupled_passes_are_counted() {
 /// breaks for good where the faces open (`JointState::cohesion_lost`), and
 /// every output state obeys the law: open points carry no shear, sticking
 /// ones at most c + μ p, and slipping ones sit on one of the two limits,
-/// c + μ p (bonded) or μ p (debonded); both kinds occur.
+/// c + μ p (bonded) or μ p (debonded); both kinds occur. The summary
+/// counts the debonded points, none without cohesion.
 #[test]
 fn a_cohesive_joint_debonds_and_converges() {
+    let plain = analyse(&VesselOptions {
+        mesh: VesselMeshSpec::paper(),
+        quiet: true,
+        ..Default::default()
+    })
+    .expect("the paper mesh without cohesion");
+    assert_eq!(f(&summary(&plain), "/final/interface_points/debonded"), 0.0);
     let c = 1.0e5;
     for mesh in [VesselMeshSpec::paper(), tecon_cli::builtin::default_mesh()] {
         let o = VesselOptions {
@@ -850,6 +858,7 @@ fn a_cohesive_joint_debonds_and_converges() {
             );
         }
         eprintln!("{mesh:?}: slipping points on c + μp {bonded}, on μp {debonded}");
+        assert!(f(&summary(&run), "/final/interface_points/debonded") > 0.0);
         assert!(
             bonded > 0 && debonded > 0,
             "{bonded} bonded, {debonded} debonded slipping points"

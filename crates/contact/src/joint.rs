@@ -27,7 +27,8 @@ pub struct JointState {
     /// The point's cohesion is gone ([`MohrCoulomb`], "Debonding"): it was
     /// open at a [`ContactLaw::update_friction`], and its slip limit is
     /// `σ_c tan φ` alone from then on. False (bonded) from the unloaded
-    /// state; set only by that update, and never unset.
+    /// state; set only by that update (for a law with cohesion), and never
+    /// unset.
     pub cohesion_lost: bool,
     /// Newton damping hook, never committed: when true, a slipping point of
     /// a [`FrictionBound::Frozen`] law reports the secant shear stiffness
@@ -519,7 +520,9 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
         let nr = self.normal.normal(jump.y, state.lambda_n);
         let p = -nr.sigma;
         // debonding for good: a point open at an update keeps no cohesion
-        let lost = state.cohesion_lost || nr.stage == NormalStage::Separation;
+        // (without cohesion there is no bond, and the flag stays unset)
+        let lost =
+            state.cohesion_lost || (self.cohesion > 0.0 && nr.stage == NormalStage::Separation);
         // (a cohesion lost or regained changes the open limit by c)
         let cohesion_change = if lost == state.cohesion_lost {
             0.0
