@@ -632,7 +632,7 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     summary["newton_coarse_space_dofs"] = json!(outcome.newton.coarse_dofs);
     summary["newton_coupled_tail_passes"] = json!(outcome.newton.coupled_tail_passes);
     summary["newton_early_coupled_passes"] = json!(outcome.newton.early_coupled_passes);
-    summary["newton_multiplier_extrapolations"] = json!(outcome.newton.multiplier_extrapolations);
+    summary["newton_mixed_multiplier_updates"] = json!(outcome.newton.mixed_multiplier_updates);
     if let Some(c) = &outcome.coupling {
         summary["coupling"] = crate::vessel::coupling_json(c);
         summary["coupling"]["per_output"] = json!(

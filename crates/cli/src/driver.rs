@@ -295,9 +295,9 @@ pub struct NewtonStats {
     /// Of those, the early coupled passes (see
     /// `SolverOptions::early_coupled_pass`).
     pub early_coupled_passes: usize,
-    /// Augmented-Lagrangian multiplier updates taken at their extrapolated
-    /// limit (settled statuses, a steady contraction).
-    pub multiplier_extrapolations: usize,
+    /// Augmented-Lagrangian multiplier updates replaced by the Anderson
+    /// mix of the last few (settled statuses).
+    pub mixed_multiplier_updates: usize,
     /// Newton passes that stopped before the full tolerance because a
     /// friction-limit update followed (inexact passes).
     pub inexact_passes: usize,
@@ -1076,7 +1076,7 @@ impl<'s> Contact<'s> {
             self.newton.coupled_increments += usize::from(r.coupled);
             self.newton.coupled_tail_passes += r.coupled_tail_passes.len();
             self.newton.early_coupled_passes += r.early_coupled_passes.len();
-            self.newton.multiplier_extrapolations += r.multiplier_extrapolations;
+            self.newton.mixed_multiplier_updates += r.mixed_multiplier_updates;
             self.newton.inexact_passes += r
                 .passes
                 .iter()

@@ -480,7 +480,7 @@ pub fn summary(run: &VesselRun) -> Value {
             // and of those the early coupled passes
             "coupled_tail_passes": run.newton.coupled_tail_passes,
             "early_coupled_passes": run.newton.early_coupled_passes,
-            "multiplier_extrapolations": run.newton.multiplier_extrapolations,
+            "mixed_multiplier_updates": run.newton.mixed_multiplier_updates,
         },
         "joint": {
             "interface": run.options.interface.name(),

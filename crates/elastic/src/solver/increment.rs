@@ -303,9 +303,9 @@ impl StaticSolver<'_> {
             !(frozen_friction && self.options.coupled_tail) || self.outer_floor > 0.0;
         let mut tail_passes = Vec::new();
         let mut early_passes = Vec::new();
-        // the multiplier updates of settled passes (see `Extrapolation`)
-        let mut extrapolation = Extrapolation::default();
-        let mut extrapolations = 0;
+        // the multiplier updates of settled passes (see `MultiplierMixing`)
+        let mut mixing = MultiplierMixing::default();
+        let mut mixed_updates = 0;
         // the early coupled pass: tried in this increment, and running
         let mut early_tried = false;
         // while the early coupled pass runs: the states it started from
@@ -534,10 +534,10 @@ impl StaticSolver<'_> {
                 relax_friction(&start, &mut committed);
             }
             // Multiplier updates of passes that all end with the same
-            // statuses are a linear fixed-point iteration: once it
-            // contracts at a steady rate, the update is extrapolated to its
-            // limit (see `Extrapolation`). The stopping test above is on
-            // the plain change, so only the path changes.
+            // statuses are an affine fixed-point iteration: from the third
+            // on, the next multipliers are the Anderson mix of the last few
+            // (see `MultiplierMixing`). The stopping test above is on the
+            // plain change, so only the path changes.
             if multipliers_alone && !inexact(&history) {
                 let now: Vec<super::PointStatus> = self
                     .statuses(&u, &start)
@@ -545,12 +545,13 @@ impl StaticSolver<'_> {
                     .map(|(s, _)| s)
                     .collect();
                 let quiet_pass = history.iter().skip(1).all(|r| r.changed == 0);
-                if let Some(w) = extrapolation.observe(now, quiet_pass, max_change) {
-                    extrapolate_multipliers(&start, &mut committed, w);
-                    extrapolations += 1;
+                let (x, g) = (multipliers(&start), multipliers(&committed));
+                if let Some(mixed) = mixing.observe(now, quiet_pass, x, g) {
+                    set_multipliers(&mut committed, &mixed);
+                    mixed_updates += 1;
                 }
             } else {
-                extrapolation = Extrapolation::default();
+                mixing = MultiplierMixing::default();
             }
             // A pass solved exactly whose statuses did not change after its
             // first iterate, or that ended with the statuses the pass before
@@ -625,7 +626,7 @@ impl StaticSolver<'_> {
                 coupled: false,
                 coupled_tail_passes: tail_passes,
                 early_coupled_passes: early_passes,
-                multiplier_extrapolations: extrapolations,
+                mixed_multiplier_updates: mixed_updates,
             },
         ))
     }
@@ -749,80 +750,114 @@ fn same_history(a: &[IterationRecord], b: &[IterationRecord]) -> bool {
         })
 }
 
-/// Steady-rate extrapolation of the augmented-Lagrangian multiplier
-/// updates. Where the statuses no longer change between passes, the
-/// Uzawa update λ ← λ + k_n g(λ) is an affine map, and its changes shrink
-/// by a steady factor ρ; where the penalty is soft against the structure
-/// around it (the fused weld's corner on g0: ρ ≈ 0.78) that takes some
-/// thirty passes to 1e-4. After three plain updates of passes that end with
-/// the same statuses, each quiet after its first iterate, whose two
-/// ratios agree (within [`EXTRAPOLATION_RATIO_SPREAD`] of each other, both
-/// in [[`EXTRAPOLATION_MIN_RATIO`], [`EXTRAPOLATION_MAX_RATIO`]]), the
-/// update is taken w = 1/(1 − ρ) times (the sum of the geometric series of
-/// the changes still to come, at most [`EXTRAPOLATION_MAX_WEIGHT`]); then
-/// three plain updates again before the next.
+/// Anderson mixing of the augmented-Lagrangian multiplier updates. Where
+/// the statuses no longer change between passes, the Uzawa update
+/// λ ← G(λ) = max(0, λ − k_n (Δu_n − closure)) is an affine map of λ, and
+/// its changes shrink by the factors of its slow modes; where the penalty is
+/// soft against the structure around it (the fused weld's corner on g0:
+/// ρ ≈ 0.75–0.78) the plain updates take some thirty passes to 1e-4. From
+/// the third update of a run of passes that end with the same statuses,
+/// each quiet after its first iterate, the next multipliers are the
+/// Anderson (type II) mix of the last [`MIXING_DEPTH`] + 1 updates:
+/// x ← g_k − ΔG γ with γ the least-squares fit of f_k = g_k − x_k by the
+/// differences ΔF of the f's (for an affine map, a Krylov method on its
+/// fixed-point equation), kept ≥ 0. A status change starts the run afresh.
 #[derive(Debug, Default)]
-pub(super) struct Extrapolation {
+pub(super) struct MultiplierMixing {
     statuses: Option<Vec<super::PointStatus>>,
-    changes: Vec<f64>,
+    /// The multipliers a settled pass started from (x) and their plain
+    /// update (g), the last [`MIXING_DEPTH`] + 1.
+    history: Vec<(Vec<f64>, Vec<f64>)>,
+    /// Settled updates in the current run.
+    run: usize,
 }
 
-impl Extrapolation {
-    /// The update after a pass that ended with `statuses` (`quiet`: no
-    /// status changed after its first iterate) changed the multipliers by
-    /// `change`: the weight to take it with, if it is time to extrapolate.
+impl MultiplierMixing {
+    /// The pass that started from the multipliers `x` ended with
+    /// `statuses` (`quiet`: no status changed after its first iterate), and
+    /// its plain update is `g`: the multipliers to go on with instead, if
+    /// it is time to mix.
     pub(super) fn observe(
         &mut self,
         statuses: Vec<super::PointStatus>,
         quiet: bool,
-        change: f64,
-    ) -> Option<f64> {
+        x: Vec<f64>,
+        g: Vec<f64>,
+    ) -> Option<Vec<f64>> {
         if !quiet || self.statuses.as_ref() != Some(&statuses) {
-            self.changes.clear();
+            self.history.clear();
+            self.run = 0;
         }
         self.statuses = Some(statuses);
         if !quiet {
             return None;
         }
-        self.changes.push(change);
-        let n = self.changes.len();
-        if n < 3 {
+        self.run += 1;
+        self.history.push((x, g));
+        if self.history.len() > MIXING_DEPTH + 1 {
+            self.history.remove(0);
+        }
+        if self.run < MIXING_AFTER {
             return None;
         }
-        let c = &self.changes[n - 3..];
-        if c[0] <= 0.0 || c[1] <= 0.0 {
+        let h = &self.history;
+        let m = h.len() - 1;
+        let f = |i: usize| -> Vec<f64> { h[i].1.iter().zip(&h[i].0).map(|(g, x)| g - x).collect() };
+        let fs: Vec<Vec<f64>> = (0..=m).map(f).collect();
+        let d_f: Vec<Vec<f64>> = (0..m)
+            .map(|j| fs[j + 1].iter().zip(&fs[j]).map(|(a, b)| a - b).collect())
+            .collect();
+        // γ = argmin ‖f_k − ΔF γ‖ (least squares by the SVD of ΔF, its
+        // singular values below 1e-10 of the largest dropped: a single slow
+        // mode makes the differences parallel)
+        let rows = fs[m].len();
+        let d_f_mat = nalgebra::DMatrix::from_fn(rows, m, |r, c| d_f[c][r]);
+        let svd = d_f_mat.svd(true, true);
+        let largest = svd.singular_values.max();
+        if !(largest.is_finite() && largest > 0.0) {
             return None;
         }
-        let (r0, r1) = (c[1] / c[0], c[2] / c[1]);
-        let steady = (EXTRAPOLATION_MIN_RATIO..=EXTRAPOLATION_MAX_RATIO).contains(&r0)
-            && (EXTRAPOLATION_MIN_RATIO..=EXTRAPOLATION_MAX_RATIO).contains(&r1)
-            && (r1 - r0).abs() <= EXTRAPOLATION_RATIO_SPREAD * r1;
-        if !steady {
-            return None;
+        let gamma = svd
+            .solve(
+                &nalgebra::DVector::from_column_slice(&fs[m]),
+                1e-10 * largest,
+            )
+            .ok()?;
+        let (_, g_k) = &h[m];
+        let mut out = g_k.clone();
+        for (j, gj) in gamma.iter().enumerate() {
+            for (o, (a, b)) in out.iter_mut().zip(h[j + 1].1.iter().zip(&h[j].1)) {
+                *o -= gj * (a - b);
+            }
         }
-        self.changes.clear();
-        Some((1.0 / (1.0 - r1)).min(EXTRAPOLATION_MAX_WEIGHT))
+        out.iter_mut().for_each(|v| *v = v.max(0.0));
+        out.iter().all(|v| v.is_finite()).then_some(out)
     }
 }
 
-/// Smallest steady ratio of successive multiplier changes that
-/// [`Extrapolation`] extrapolates (faster loops end within a few passes).
-const EXTRAPOLATION_MIN_RATIO: f64 = 0.3;
-/// Largest such ratio (a loop near ρ = 1 is not linear enough to trust).
-const EXTRAPOLATION_MAX_RATIO: f64 = 0.95;
-/// How far apart the two ratios may be, relative to the last.
-const EXTRAPOLATION_RATIO_SPREAD: f64 = 0.1;
-/// Largest extrapolation weight.
-const EXTRAPOLATION_MAX_WEIGHT: f64 = 10.0;
+/// Updates of the multipliers the mixing looks back on.
+const MIXING_DEPTH: usize = 3;
+/// The settled update from which on the updates are mixed (the earlier
+/// ones are plain: most loops end within them, unchanged).
+const MIXING_AFTER: usize = 3;
 
-/// The multipliers of `updated` (the plain update of `old`) moved `w`
-/// times the update, kept ≥ 0.
-fn extrapolate_multipliers(old: &[PointStates], updated: &mut [PointStates], w: f64) {
-    for (a, b) in old.iter().zip(updated.iter_mut()) {
+/// The multipliers of `states`, flat.
+fn multipliers(states: &[PointStates]) -> Vec<f64> {
+    states
+        .iter()
+        .flat_map(|s| s.as_slice().iter().map(|p| p.lambda_n))
+        .collect()
+}
+
+/// `states` with the flat multipliers `lambda`.
+fn set_multipliers(states: &mut [PointStates], lambda: &[f64]) {
+    let mut k = 0;
+    for b in states.iter_mut() {
         let per = b.per_element();
         let mut flat = b.as_slice().to_vec();
-        for (s, o) in flat.iter_mut().zip(a.as_slice()) {
-            s.lambda_n = (o.lambda_n + w * (s.lambda_n - o.lambda_n)).max(0.0);
+        for s in flat.iter_mut() {
+            s.lambda_n = lambda[k];
+            k += 1;
         }
         *b = PointStates::from_flat(per, flat);
     }
@@ -836,66 +871,74 @@ mod tests {
         vec![(ContactStatus::Stick, 0); n]
     }
 
-    /// A scalar affine map λ ← a λ + b (a multiplier update at settled
-    /// statuses) converges linearly with ratio a; the third update of a
-    /// steady run is extrapolated to the fixed point b / (1 − a) exactly,
-    /// and the next extrapolation waits for three plain updates again.
+    /// An affine map λ ← A λ + b with three slow modes (0.8, 0.6, 0.3; a
+    /// multiplier update at settled statuses): mixed from its third update
+    /// on, it is at its fixed point to 1e-10 after seven updates, where the
+    /// plain iteration is still 4 % away.
     #[test]
-    fn a_steady_linear_update_is_extrapolated_to_its_fixed_point() {
-        let (a, b): (f64, f64) = (0.8, 1.0);
-        let mut e = Extrapolation::default();
-        let mut lambda: f64 = 0.0;
-        let mut weights = Vec::new();
-        for k in 0..6 {
-            let next = a * lambda + b;
-            let w = e.observe(closed(4), true, (next - lambda).abs());
-            weights.push(w);
-            lambda = match w {
-                Some(w) => lambda + w * (next - lambda),
-                None => next,
+    fn mixed_multiplier_updates_reach_the_fixed_point_of_an_affine_map() {
+        let a = [0.8, 0.6, 0.3];
+        let b = [1.0, 2.0, 0.5];
+        let fixed: Vec<f64> = a.iter().zip(&b).map(|(a, b)| b / (1.0 - a)).collect();
+        let g = |x: &[f64]| -> Vec<f64> {
+            x.iter()
+                .zip(a.iter().zip(&b))
+                .map(|(x, (a, b))| a * x + b)
+                .collect()
+        };
+        let err = |x: &[f64]| {
+            x.iter()
+                .zip(&fixed)
+                .map(|(x, f)| (x - f).abs() / f)
+                .fold(0.0, f64::max)
+        };
+        let mut mixing = MultiplierMixing::default();
+        let (mut x, mut plain) = (vec![0.0; 3], vec![0.0; 3]);
+        let mut mixed = 0;
+        for _ in 0..7 {
+            let gx = g(&x);
+            x = match mixing.observe(closed(3), true, x.clone(), gx.clone()) {
+                Some(m) => {
+                    mixed += 1;
+                    m
+                }
+                None => gx,
             };
-            if k == 2 {
-                assert!((lambda - b / (1.0 - a)).abs() < 1e-12, "λ = {lambda}");
-            }
+            plain = g(&plain);
         }
-        assert!((weights[2].unwrap() - 5.0).abs() < 1e-12);
-        assert_eq!(weights.iter().filter(|w| w.is_some()).count(), 1);
+        assert_eq!(mixed, 5);
+        assert!(
+            err(&x) < 1e-10,
+            "mixed: {:.1e} from the fixed point",
+            err(&x)
+        );
+        assert!(err(&plain) > 0.04, "plain: {:.1e}", err(&plain));
     }
 
-    /// No extrapolation where the statuses changed between the passes, a
-    /// pass changed statuses after its first iterate, the ratios differ,
-    /// or the loop contracts fast (ρ < 0.3) or hardly (ρ > 0.95).
+    /// No mixing before the third settled update of a run: a status change
+    /// between passes, or a pass that changed statuses after its first
+    /// iterate, starts the run afresh. Mixed multipliers stay ≥ 0.
     #[test]
-    fn only_a_steady_run_of_settled_passes_is_extrapolated() {
-        let run = |changes: &[f64], statuses: &[usize], quiet: &[bool]| {
-            let mut e = Extrapolation::default();
-            changes
-                .iter()
-                .zip(statuses)
-                .zip(quiet)
-                .map(|((&c, &s), &q)| {
-                    let mut st = closed(4);
-                    st[s].0 = ContactStatus::Open;
-                    e.observe(st, q, c)
-                })
-                .collect::<Vec<_>>()
+    fn only_runs_of_settled_passes_are_mixed() {
+        let observe = |m: &mut MultiplierMixing, open: usize, quiet: bool, k: f64| {
+            let mut st = closed(2);
+            st[open].0 = ContactStatus::Open;
+            // a map whose fixed point is negative: λ ← 0.5 λ − 1
+            let x = vec![k, k];
+            let g = x.iter().map(|v| 0.5 * v - 1.0).collect();
+            m.observe(st, quiet, x, g)
         };
-        let geometric = [1.0, 0.8, 0.64, 0.512];
-        assert!(run(&geometric, &[0; 4], &[true; 4])[2].is_some());
-        // the statuses moved at the second update: three from there on
-        let moved = run(&geometric, &[0, 1, 1, 1], &[true; 4]);
-        assert_eq!(moved[..3], [None; 3]);
-        assert!(moved[3].is_some_and(|w| (w - 5.0).abs() < 1e-12));
-        // a pass that changed statuses
-        let noisy = run(&geometric, &[0; 4], &[true, false, true, true]);
-        assert_eq!(noisy, vec![None; 4]);
-        // unsteady ratios, fast and slow loops
-        for changes in [
-            [1.0, 0.8, 0.4, 0.3],
-            [1.0, 0.2, 0.04, 0.008],
-            [1.0, 0.99, 0.9801, 0.97],
-        ] {
-            assert_eq!(run(&changes, &[0; 4], &[true; 4]), vec![None; 4]);
-        }
+        let mut m = MultiplierMixing::default();
+        assert!(observe(&mut m, 0, true, 4.0).is_none());
+        assert!(observe(&mut m, 0, true, 3.0).is_none());
+        // statuses moved: afresh
+        assert!(observe(&mut m, 1, true, 2.5).is_none());
+        assert!(observe(&mut m, 1, true, 2.0).is_none());
+        // a pass that changed statuses: afresh
+        assert!(observe(&mut m, 1, false, 1.5).is_none());
+        assert!(observe(&mut m, 1, true, 1.2).is_none());
+        assert!(observe(&mut m, 1, true, 1.1).is_none());
+        let mixed = observe(&mut m, 1, true, 1.0).expect("the third settled update");
+        assert_eq!(mixed, vec![0.0, 0.0]);
     }
 }

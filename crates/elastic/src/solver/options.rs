@@ -247,9 +247,9 @@ pub struct IncrementReport {
     /// Of those, the early coupled passes (see
     /// [`SolverOptions::early_coupled_pass`]), a failed one included.
     pub early_coupled_passes: Vec<usize>,
-    /// Multiplier updates taken at their extrapolated limit (settled
-    /// statuses, a steady contraction: see the solver's outer loop).
-    pub multiplier_extrapolations: usize,
+    /// Multiplier updates replaced by the Anderson mix of the last few
+    /// (settled statuses: see the solver's outer loop).
+    pub mixed_multiplier_updates: usize,
 }
 
 /// Default of [`SolverOptions::coarse_levels`]. A frictionless first pass
