@@ -299,9 +299,8 @@ impl<N: NormalLaw> MohrCoulomb<N> {
     pub fn tan_phi(&self) -> f64 {
         self.tan_phi
     }
-    /// The cohesion an open point keeps in its frozen limit: `c` unless
-    /// the point was open at the last friction update
-    /// ([`JointState::cohesion_lost`]).
+    /// The cohesion in the point's slip limit: `c` unless its bond broke
+    /// (it was open at a friction update: [`JointState::cohesion_lost`]).
     #[inline]
     fn held_cohesion(&self, st: &JointState) -> f64 {
         if st.cohesion_lost { 0.0 } else { self.cohesion }
@@ -397,9 +396,9 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
         let nr = normal_of(&self.normal, jump.y, committed);
         let k_n = nr.stiffness;
         if nr.stage == NormalStage::Separation {
-            // Frozen limit with a stored pressure: the friction part of the
-            // limit stays on while the faces open (see the type's doc), so
-            // the shear traction does not jump at opening.
+            // Frozen limit: the stored pressure's part of the limit and the
+            // held cohesion stay on while the faces open (see the type's
+            // doc), so the shear traction does not jump at opening.
             let s_open = limit_of(self.frozen_limit(committed), committed);
             if self.bound == FrictionBound::Frozen && s_open > 0.0 {
                 let (tau, k_t, slip) = self.tresca(jump.x, committed.slip, s_open);
@@ -523,7 +522,7 @@ impl<N: NormalLaw> ContactLaw for MohrCoulomb<N> {
         // (without cohesion there is no bond, and the flag stays unset)
         let lost =
             state.cohesion_lost || (self.cohesion > 0.0 && nr.stage == NormalStage::Separation);
-        // (a cohesion lost or regained changes the open limit by c)
+        // (a bond that breaks changes the limit by c)
         let cohesion_change = if lost == state.cohesion_lost {
             0.0
         } else {
