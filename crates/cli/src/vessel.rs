@@ -1282,20 +1282,59 @@ pub fn study(base: &VesselOptions, out: &Path, graded: bool) -> CliResult<()> {
     .collect();
     let (fig, orders) = crate::figures::mesh_study(&h, &quantities, "MPa");
     fig.write_svg_png(&out.join("study_mesh"))?;
-    text += "observed order (slope of log |q(h) − q(h/2)| against log h):";
-    for (l, p) in &orders {
-        match p {
-            Some(p) => text += &format!(" {l} {p:.2};"),
-            None => text += &format!(" {l} -;"),
-        }
-    }
-    text.pop();
-    text.push('\n');
+    text += &order_line(&orders, &quantities);
     print!("{text}");
     std::fs::write(out.join("study_mesh.txt"), &text)
         .map_err(|e| format!("{}: {e}", out.display()))?;
     Ok(())
 }
+
+/// The mesh study's line of observed orders: each quantity's slope with
+/// its relative changes between successive meshes, and no order where
+/// every change is below [`STUDY_TOLERANCE_FLOOR`].
+fn order_line(
+    orders: &[(String, Option<f64>)],
+    quantities: &[crate::figures::StudyQuantity],
+) -> String {
+    let mut text = String::from(
+        "observed order (slope of log |q(h) − q(h/2)| against log h; the changes relative to q):",
+    );
+    for ((l, p), q) in orders.iter().zip(quantities) {
+        let changes: Vec<f64> = q
+            .values
+            .windows(2)
+            .map(|w| ((w[1] - w[0]) / w[0]).abs())
+            .collect();
+        let listed = changes
+            .iter()
+            .map(|c| format!("{c:.1e}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        // changes this small are the contact solve's own tolerances, not
+        // the discretisation's: a slope through them means nothing
+        let at_tolerance =
+            !changes.is_empty() && changes.iter().all(|&c| c < STUDY_TOLERANCE_FLOOR);
+        match p {
+            Some(_) if at_tolerance => {
+                text += &format!(" {l} - (changes {listed}: at the solvers' tolerances, no order);")
+            }
+            Some(p) => text += &format!(" {l} {p:.2} (changes {listed});"),
+            None => text += &format!(" {l} -;"),
+        }
+    }
+    text.pop();
+    text.push('\n');
+    text
+}
+
+/// Relative change between two meshes of a mesh study below which the
+/// solvers' tolerances, not the discretisation, set it (`--study mesh`
+/// prints no order from such changes). The contact solve's outer loop
+/// stops once the multipliers change by 1e-4 of the largest contact
+/// pressure, and two paths to the same fixed point end that far apart
+/// (the fused weld's mixed and plain multiplier updates: hoop means 1e-7,
+/// the mean contact pressure 3e-7 apart).
+const STUDY_TOLERANCE_FLOOR: f64 = 1e-5;
 
 /// `--sync-interval` / `--sync-tolerance`: fixed blocks when only the
 /// interval is given, else adaptive blocks.
@@ -1333,4 +1372,39 @@ pub fn coupling_json(c: &crate::driver::CouplingStats) -> Value {
         "unsettled_blocks": c.unsettled,
         "max_final_conductance_change": c.max_final_change,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::StudyQuantity;
+
+    /// A quantity converging at order 2 gets its slope and changes; one
+    /// whose changes are all below 1e-5 of it (the solvers' tolerances)
+    /// gets no order, whatever its slope.
+    #[test]
+    fn the_study_prints_no_order_from_changes_at_the_solvers_tolerances() {
+        let q = |label: &str, values: Vec<f64>| StudyQuantity {
+            label: label.into(),
+            values,
+        };
+        let quantities = [
+            q("converging", vec![1.0, 1.04, 1.05]),
+            q("noise", vec![2.0, 2.000002, 1.999998]),
+        ];
+        let orders = vec![
+            ("converging".to_string(), Some(2.0)),
+            ("noise".to_string(), Some(-1.3)),
+        ];
+        let line = order_line(&orders, &quantities);
+        assert!(
+            line.contains("converging 2.00 (changes 4.0e-2, 9.6e-3)"),
+            "{line}"
+        );
+        assert!(
+            line.contains("noise - (changes 1.0e-6, 2.0e-6: at the solvers' tolerances, no order)"),
+            "{line}"
+        );
+        assert!(line.ends_with(")\n") && !line.contains(";\n"));
+    }
 }
