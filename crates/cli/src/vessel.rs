@@ -1291,7 +1291,7 @@ pub fn study(base: &VesselOptions, out: &Path, graded: bool) -> CliResult<()> {
 
 /// The mesh study's line of observed orders: each quantity's slope with
 /// its relative changes between successive meshes, and no order where
-/// every change is below [`STUDY_TOLERANCE_FLOOR`].
+/// every change is below [`crate::figures::STUDY_TOLERANCE_FLOOR`].
 fn order_line(
     orders: &[(String, Option<f64>)],
     quantities: &[crate::figures::StudyQuantity],
@@ -1300,22 +1300,14 @@ fn order_line(
         "observed order (slope of log |q(h) − q(h/2)| against log h; the changes relative to q):",
     );
     for ((l, p), q) in orders.iter().zip(quantities) {
-        let changes: Vec<f64> = q
-            .values
-            .windows(2)
-            .map(|w| ((w[1] - w[0]) / w[0]).abs())
-            .collect();
+        let changes = crate::figures::relative_changes(&q.values);
         let listed = changes
             .iter()
             .map(|c| format!("{c:.1e}"))
             .collect::<Vec<_>>()
             .join(", ");
-        // changes this small are the contact solve's own tolerances, not
-        // the discretisation's: a slope through them means nothing
-        let at_tolerance =
-            !changes.is_empty() && changes.iter().all(|&c| c < STUDY_TOLERANCE_FLOOR);
         match p {
-            Some(_) if at_tolerance => {
+            Some(_) if crate::figures::changes_at_tolerance(&q.values) => {
                 text += &format!(" {l} - (changes {listed}: at the solvers' tolerances, no order);")
             }
             Some(p) => text += &format!(" {l} {p:.2} (changes {listed});"),
@@ -1326,15 +1318,6 @@ fn order_line(
     text.push('\n');
     text
 }
-
-/// Relative change between two meshes of a mesh study below which the
-/// solvers' tolerances, not the discretisation, set it (`--study mesh`
-/// prints no order from such changes). The contact solve's outer loop
-/// stops once the multipliers change by 1e-4 of the largest contact
-/// pressure, and two paths to the same fixed point end that far apart
-/// (the fused weld's mixed and plain multiplier updates: hoop means 1e-7,
-/// the mean contact pressure 3e-7 apart).
-const STUDY_TOLERANCE_FLOOR: f64 = 1e-5;
 
 /// `--sync-interval` / `--sync-tolerance`: fixed blocks when only the
 /// interval is given, else adaptive blocks.
