@@ -36,6 +36,15 @@ fn run_with(
     (summary(&run), run)
 }
 
+/// The largest contact pressure at the interface points of an output state.
+fn largest_pressure(state: &tecon_cli::vessel::TimeResult) -> f64 {
+    state
+        .interface
+        .iter()
+        .map(|q| -q.traction[1])
+        .fold(0.0, f64::max)
+}
+
 fn f(v: &Value, k: &str) -> f64 {
     v.pointer(k)
         .and_then(Value::as_f64)
@@ -450,11 +459,7 @@ fn high_friction_converges_past_the_outer_limit() {
     assert!(f(&s5, "/newton/coupled_increments") > 0.0);
     assert!(f(&s5, "/newton/failed_attempt_iterations") > 0.0);
     let last = r5.results.last().expect("a final state");
-    let p_max = last
-        .interface
-        .iter()
-        .map(|q| -q.traction[1])
-        .fold(0.0, f64::max);
+    let p_max = largest_pressure(last);
     let mut worst: f64 = 0.0;
     for q in &last.interface {
         let (tau, p) = (q.traction[0].abs(), (-q.traction[1]).max(0.0));
@@ -824,11 +829,7 @@ fn a_cohesive_joint_debonds_and_converges() {
         for state in &run.results {
             // (the frozen limits are within the outer loop's tolerance,
             // 1e-4 of the largest contact pressure, of the pressures)
-            let p_max = state
-                .interface
-                .iter()
-                .map(|q| -q.traction[1])
-                .fold(0.0, f64::max);
+            let p_max = largest_pressure(state);
             let mut worst: f64 = 0.0;
             for q in &state.interface {
                 let (tau, p) = (q.traction[0].abs(), (-q.traction[1]).max(0.0));
