@@ -1025,16 +1025,23 @@ fn a_forced_stick_continues_the_stick_branch_past_the_slip_limit() {
         max_relative = 1e-12
     );
     let limit = coupled.tan_phi() * p;
-    for (law, pressure) in [(coupled, 0.0), (frozen, p)] {
+    // a committed state with the stored pressure, and its forced copy
+    let states = |pressure: f64| {
         let st = JointState {
             slip: 1.0e-7,
             friction_pressure: pressure,
             ..JointState::default()
         };
-        let forced = JointState {
-            forced_stick: true,
-            ..st
-        };
+        (
+            st,
+            JointState {
+                forced_stick: true,
+                ..st
+            },
+        )
+    };
+    for (law, pressure) in [(coupled, 0.0), (frozen, p)] {
+        let (st, forced) = states(pressure);
         // within the limit: the law and its forced copy agree to the bit
         let inside = Vector2::new(st.slip + 0.5 * limit / K, du_n);
         let (a, b) = (law.evaluate(&inside, &st), law.evaluate(&inside, &forced));
@@ -1058,15 +1065,7 @@ fn a_forced_stick_continues_the_stick_branch_past_the_slip_limit() {
     }
     // open under a frozen limit (the friction part stays on at opening):
     // forced, the point sticks with the trial traction past that limit too
-    let st = JointState {
-        slip: 1.0e-7,
-        friction_pressure: p,
-        ..JointState::default()
-    };
-    let forced = JointState {
-        forced_stick: true,
-        ..st
-    };
+    let (st, forced) = states(p);
     let open_past = Vector2::new(st.slip + 3.0 * limit / K, 1.0e-6);
     let a = frozen.evaluate(&open_past, &st);
     assert_eq!(a.status, ContactStatus::Open);

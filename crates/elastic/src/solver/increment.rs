@@ -538,31 +538,31 @@ impl StaticSolver<'_> {
             // on, the next multipliers are the Anderson mix of the last few
             // (see `MultiplierMixing`). The stopping test above is on the
             // plain change, so only the path changes.
-            if multipliers_alone && !inexact(&history) {
-                let now: Vec<super::PointStatus> = self
-                    .statuses(&u, &start)
-                    .into_iter()
-                    .map(|(s, _)| s)
-                    .collect();
-                let quiet_pass = history.iter().skip(1).all(|r| r.changed == 0);
-                let (x, g) = (multipliers(&start), multipliers(&committed));
-                if let Some(mixed) = mixing.observe(now, quiet_pass, x, g) {
-                    set_multipliers(&mut committed, &mixed);
-                    mixed_updates += 1;
-                }
-            } else {
-                mixing = MultiplierMixing::default();
-            }
-            // A pass solved exactly whose statuses did not change after its
-            // first iterate, or that ended with the statuses the pass before
-            // it ended with: the outer updates are linear from here on, and
-            // the coupled passes find their fixed point directly.
-            let end: Option<Vec<super::PointStatus>> = (!tail_tried).then(|| {
+            let mix = multipliers_alone && !inexact(&history);
+            // the statuses this pass ended with (evaluated once, for the
+            // mixing and for the tail's tests below)
+            let ended: Option<Vec<super::PointStatus>> = (mix || !tail_tried).then(|| {
                 self.statuses(&u, &start)
                     .into_iter()
                     .map(|(s, _)| s)
                     .collect()
             });
+            match ended.as_ref().filter(|_| mix) {
+                Some(now) => {
+                    let quiet_pass = history.iter().skip(1).all(|r| r.changed == 0);
+                    let (x, g) = (multipliers(&start), multipliers(&committed));
+                    if let Some(mixed) = mixing.observe(now.clone(), quiet_pass, x, g) {
+                        set_multipliers(&mut committed, &mixed);
+                        mixed_updates += 1;
+                    }
+                }
+                None => mixing = MultiplierMixing::default(),
+            }
+            // A pass solved exactly whose statuses did not change after its
+            // first iterate, or that ended with the statuses the pass before
+            // it ended with: the outer updates are linear from here on, and
+            // the coupled passes find their fixed point directly.
+            let end: Option<Vec<super::PointStatus>> = if tail_tried { None } else { ended };
             let same_end = end.is_some() && end == last_end;
             // one coupled pass early at high friction (see
             // `early_coupled_pass`), once per increment
