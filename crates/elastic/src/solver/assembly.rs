@@ -619,6 +619,22 @@ impl StaticSolver<'_> {
         committed: &[PointStates],
         weight: f64,
     ) -> Result<CsrMatrix, ElasticError> {
+        let mut f = vec![0.0; u.len()];
+        let mut kt = self.k_bulk.clone();
+        self.add_interfaces_with(&self.laws, u, committed, Some(&mut kt), &mut f)?;
+        self.stabilise_slip(kt, u, committed, weight)
+    }
+
+    /// `kt + weight (K_stick − kt)`, K_stick the tangent at `u` with every
+    /// Mohr–Coulomb point sticking (the same normal law; open points stay
+    /// without stiffness).
+    fn stabilise_slip(
+        &self,
+        mut kt: CsrMatrix,
+        u: &[f64],
+        committed: &[PointStates],
+        weight: f64,
+    ) -> Result<CsrMatrix, ElasticError> {
         let laws: Vec<Joint> = self
             .laws
             .iter()
@@ -632,12 +648,25 @@ impl StaticSolver<'_> {
         let mut f = vec![0.0; u.len()];
         let mut stick = self.k_bulk.clone();
         self.add_interfaces_with(&laws, u, committed, Some(&mut stick), &mut f)?;
-        let mut kt = self.k_bulk.clone();
-        self.add_interfaces_with(&self.laws, u, committed, Some(&mut kt), &mut f)?;
         for (a, b) in kt.values_mut().iter_mut().zip(stick.values()) {
             *a += weight * (b - *a);
         }
         Ok(kt)
+    }
+
+    /// The frozen limits' tangent with the weak shear stiffness
+    /// `weight · k_s` at every slipping point (see
+    /// [`StaticSolver::slip_stabilised_tangent`]): what the held check
+    /// looks at once the plain tangent has lost a rigid mode (see
+    /// `StaticSolver::check_held_or_sliding`).
+    pub(super) fn sliding_held_tangent(
+        &self,
+        u: &[f64],
+        committed: &[PointStates],
+        weight: f64,
+    ) -> Result<CsrMatrix, ElasticError> {
+        let frozen = self.frozen_tangent(u, committed)?;
+        self.stabilise_slip(frozen, u, committed, weight)
     }
 
     /// The tangent with every frictional law's slip limit frozen at its

@@ -721,6 +721,7 @@ impl StaticSolver<'_> {
             if let Err(e) = t.stepped(step, step * norm(&du) / unorm) {
                 return Err(self.floating_or(e, &uf, committed));
             }
+            t.check_drift()?;
         }
         if !converged {
             let e = super::tracker::failure(
@@ -837,7 +838,7 @@ impl StaticSolver<'_> {
         // (the frozen limits' tangent: the same as the pass's with frozen
         // limits; with the coupled law, whose slip tangent is not
         // symmetric, the one with the same normal stiffness)
-        self.check_held(self.frozen_tangent(uf, committed)?)
+        self.check_held_or_sliding(self.frozen_tangent(uf, committed)?, uf, committed)
     }
 
     /// A pass that failed (status ping-pong, stagnation, no convergence,

@@ -452,7 +452,7 @@ impl PassTracker {
     /// (the line search keeps cutting while no status changes) will not
     /// converge, so the increment is given back early to be cut. Short
     /// steps that move a stick/slip or contact front by a point or two are
-    /// progress. A step that drifts (see [`DRIFT_STEP`]) fails the pass.
+    /// progress.
     pub fn stepped(&mut self, step: f64, correction: f64) -> Result<(), ElasticError> {
         let changed = self.history.last().map_or(0, |h| h.changed);
         self.short_steps = if step < 0.2 && changed == 0 {
@@ -470,6 +470,23 @@ impl PassTracker {
             h.correction = correction;
             h.step = step;
         }
+        self.prev2 = self
+            .prev
+            .take()
+            .map(|p: Vec<(PointStatus, f64)>| p.iter().map(|s| s.0).collect());
+        self.prev = self.prev_pending.take();
+        Ok(())
+    }
+
+    /// Fails the pass if its last step drifted (see [`DRIFT_STEP`]): the
+    /// failure goes to the outer loop's fallbacks as it is (not turned
+    /// into a floating body: the drift, not the iterate it reached, is
+    /// what went wrong).
+    pub fn check_drift(&mut self) -> Result<(), ElasticError> {
+        let Some(h) = self.history.last() else {
+            return Ok(());
+        };
+        let (step, correction) = (h.step, h.correction);
         if step >= DRIFT_STEP && correction >= DRIFT_CORRECTION {
             return Err(failure(
                 format!(
@@ -478,11 +495,6 @@ impl PassTracker {
                 std::mem::take(&mut self.history),
             ));
         }
-        self.prev2 = self
-            .prev
-            .take()
-            .map(|p: Vec<(PointStatus, f64)>| p.iter().map(|s| s.0).collect());
-        self.prev = self.prev_pending.take();
         Ok(())
     }
 }
