@@ -523,6 +523,56 @@ fn bonded_rings_are_the_lame_cylinder() {
     }
 }
 
+/// The shrink fit as a full ring (0°–360°, 128 intervals, no symmetry
+/// edges): without supports the two rings are free and the error says
+/// which keys supply them; with `hold_rigid_modes` on the bore (a
+/// statically determinate support, whose reactions vanish under the
+/// self-equilibrated shrink fit) the contact pressure is the two-cylinder
+/// answer, 8.3903 MPa, to 4.5e-4 (the quarter ring of 32 intervals
+/// gives the same to 1e-3).
+#[test]
+fn a_full_ring_is_held_by_a_statically_determinate_support() {
+    let full = edited("theta1 = 90.0", "theta1 = 360.0")
+        .replacen("segments = 32 ", "segments = 128", 1)
+        .replacen(
+            "[[mechanical.symmetry]]\nedges = \"start\"                # θ = 0\n[[mechanical.symmetry]]\nedges = \"end\"                  # θ = 90°\n",
+            "",
+            1,
+        );
+    assert!(
+        !full.contains("mechanical.symmetry") && full.contains("segments = 128"),
+        "the lines moved"
+    );
+    let (e, _d) = error_of(&full);
+    assert!(
+        e.contains("not constrained") && e.contains("hold_rigid_modes"),
+        "{e}"
+    );
+    let held = full.replacen(
+        "[mechanical]\n",
+        "[mechanical]\nhold_rigid_modes = \"inner\"\n",
+        1,
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("full_ring.toml");
+    std::fs::write(&path, &held).unwrap();
+    let c = case::load(&path).unwrap();
+    let res = case::execute(&c, &cases_dir()).unwrap();
+    let p = num(
+        &res.summary,
+        "/times/0/interfaces/inner_outer/contact_pressure_mean",
+    );
+    eprintln!("full-ring shrink fit: p = {p:.6e}");
+    assert!((p / 8.390324e6 - 1.0).abs() < 1e-3, "p = {p}");
+    // an edge set that does not exist is named
+    let (e, _d) = error_of(&full.replacen(
+        "[mechanical]\n",
+        "[mechanical]\nhold_rigid_modes = \"bore\"\n",
+        1,
+    ));
+    assert!(e.contains("hold_rigid_modes") && e.contains("bore"), "{e}");
+}
+
 /// A body that every interface point lets go of is held by nothing: the
 /// shrink fit's inner ring made 50 K colder than the outer one, with only
 /// the outer ring's outer surface fixed, parts from it. The contact solve

@@ -381,6 +381,7 @@ pub fn vessel_case(o: &VesselOptions, mesh: &Mesh) -> CliResult<Case> {
                 .into_iter()
                 .collect(),
             remove_free_translations: true,
+            hold_rigid_modes: None,
             augmented_lagrangian: Some(o.augmented_lagrangian.unwrap_or(0.0)),
             reference_temperature: None,
             condensation: Some(o.condensation),

@@ -354,6 +354,12 @@ pub struct MechanicalSection {
     /// Remove rigid translations the supports leave free (default false).
     #[serde(default)]
     pub remove_free_translations: bool,
+    /// Hold the three rigid modes (both translations and the rotation) of
+    /// a body without supports, a full ring, by a statically determinate
+    /// support on the nodes of this edge set (u_y = 0 at its node of
+    /// largest x and at its node of smallest x, u_x = 0 at its node of
+    /// largest y: reactions that vanish under self-equilibrated loads).
+    pub hold_rigid_modes: Option<String>,
     /// Augmented-Lagrangian tolerance (default 1e-4; 0: pure penalty).
     pub augmented_lagrangian: Option<f64>,
     /// Stress-free temperature of every element (default: the initial field).
@@ -547,6 +553,32 @@ pub struct CaseResult {
 }
 
 /// Runs the case (no files written): mesh and setup, then the driver.
+/// A body the supports leave free (a singular system) in a case file: the
+/// error with the keys that supply the missing support. Other errors as
+/// they are.
+fn constraint_hint(e: driver::DriverError) -> String {
+    let free = match &e {
+        driver::DriverError::Mechanical(m) => {
+            matches!(
+                **m,
+                tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. })
+            )
+        }
+        driver::DriverError::ContactSolve { source, .. } => matches!(
+            source.as_ref(),
+            tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. })
+        ),
+        _ => false,
+    };
+    if free {
+        format!(
+            "{e}. In a case file: [[mechanical.fix]] or [[mechanical.symmetry]] support a body; [mechanical] remove_free_translations = true removes translations the supports leave free; hold_rigid_modes = \"EDGES\" holds a body without supports (a full ring) in translation and rotation by a statically determinate support on the nodes of edge set EDGES"
+        )
+    } else {
+        e.to_string()
+    }
+}
+
 pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     let start = std::time::Instant::now();
     let f = &case.source;
@@ -570,7 +602,8 @@ pub fn execute(case: &Case, base_dir: &Path) -> CliResult<CaseResult> {
     let (outcome, joints, al, analysis, probes, bound_violation) = {
         let p = setup::prepare(case, &mesh, tie.as_ref())?;
         let nodes: Vec<usize> = p.probes.iter().map(|&(_, i)| i).collect();
-        let outcome = driver::run_recording(&p.setup, &nodes).map_err(|e| err(f, e))?;
+        let outcome =
+            driver::run_recording(&p.setup, &nodes).map_err(|e| err(f, constraint_hint(e)))?;
         // the measure of `tecon vessel`'s thermal.bound_violation
         let bound_violation = outcome
             .bound_violation

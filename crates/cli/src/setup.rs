@@ -891,6 +891,11 @@ pub fn prepare<'m>(
             .map_err(|e| err(f, format!("{key}: {e}")))?;
     }
     model = model.remove_free_translations(mech.remove_free_translations);
+    if let Some(edges) = &mech.hold_rigid_modes {
+        model = model
+            .hold_rigid_modes(edges)
+            .map_err(|e| err(f, format!("mechanical.hold_rigid_modes = \"{edges}\": {e}")))?;
+    }
     let al = match mech.augmented_lagrangian {
         None => Some(1e-4),
         Some(v) => {
