@@ -438,6 +438,19 @@ pub fn analyse(o: &MultilayerOptions) -> CliResult<MultilayerRun> {
     for k in 1..=n {
         o.stage_output_times(k)?;
     }
+    if o.friction == 0.0 && !o.half_section() {
+        // a rigid turn of a ring on a circular joint opens no gap: with
+        // frictionless joints nothing holds a full ring in rotation
+        return Err(format!(
+            "friction 0 on a full ring (seams at {}°, not all on y = 0): a frictionless joint resists no turning, so nothing would hold the rings in rotation; give a friction coefficient, or seams on y = 0 (0° or 180°: the half section, held by its symmetry planes)",
+            geo.layers
+                .iter()
+                .map(|l| format!("{:.0}", l.seam_angle.to_degrees()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+        .into());
+    }
     let mesh = multilayer_vessel_mesh(geo, &o.spec)?;
     // refused up front when it cannot fit, as every other analysis
     crate::memory::check("the multilayer mesh", mesh.n_triangles(), mesh.order())?;

@@ -1054,10 +1054,21 @@ pub fn run(
         ("--conductance contact", args.conductance != "constant"),
         ("--coupling two-way", args.coupling != "one-way"),
         ("--cohesion", args.cohesion.is_some_and(|c| c != 0.0)),
-        ("--interface", args.interface != "frictional"),
+        ("--interface bonded", args.interface == "bonded"),
     ];
     if let Some((name, _)) = unsupported.iter().find(|(_, on)| *on) {
         return Err(format!("{name} is not available with --layers yet").into());
+    }
+    // frictionless joints: the frictional law with μ = 0 (as the monolayer)
+    let frictionless = matches!(
+        crate::builtin::InterfaceKind::parse(&args.interface)?,
+        crate::builtin::InterfaceKind::Frictionless
+    );
+    if frictionless && args.friction.is_some() {
+        return Err(
+            "--friction: only with --interface frictional (this run is --interface frictionless)"
+                .into(),
+        );
     }
     let mut o =
         crate::multilayer::MultilayerOptions::new(n, args.layer_thickness, args.seams.as_deref())?;
@@ -1074,6 +1085,9 @@ pub fn run(
             return Err(format!("--friction {f}: must be non-negative").into());
         }
         o.friction = f;
+    }
+    if frictionless {
+        o.friction = 0.0;
     }
     o.times = args.times.clone();
     o.quiet = args.quiet;

@@ -207,6 +207,64 @@ fn bad_layer_input_is_named() {
     }
 }
 
+/// Frictionless joints (`--interface frictionless`, or `--friction 0`):
+/// on the half section (every seam on y = 0) the rings match the
+/// sequential shrink fit, itself frictionless, to 1.3e-4; on a full ring
+/// nothing would hold a ring in rotation (a rigid turn on a circular
+/// joint opens no gap), which is refused before any work with the way
+/// out; `--friction` beside `--interface frictionless` is refused as for
+/// the monolayer.
+#[test]
+fn frictionless_layers_need_the_half_section() {
+    let tecon = |args: &[&str]| {
+        let dir = tempfile::tempdir().unwrap();
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_tecon"))
+            .arg("vessel")
+            .args(args)
+            .arg("--quiet")
+            .arg("--out")
+            .arg(dir.path())
+            .output()
+            .unwrap();
+        let summary = std::fs::read_to_string(dir.path().join("summary.json")).ok();
+        (o, summary)
+    };
+    let (o, summary) = tecon(&[
+        "--layers",
+        "3",
+        "--seams",
+        "0,180,0",
+        "--interface",
+        "frictionless",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_str(&summary.unwrap()).unwrap();
+    let worst = v["max_relative_error_ring_means"].as_f64().unwrap();
+    assert!(worst < 1e-3, "{worst}");
+    for args in [
+        &["--layers", "3", "--interface", "frictionless"][..],
+        &["--layers", "2", "--seams", "0,90", "--friction", "0"][..],
+    ] {
+        let (o, _) = tecon(args);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert!(e.contains("full ring") && e.contains("y = 0"), "{e}");
+    }
+    let (o, _) = tecon(&[
+        "--layers",
+        "2",
+        "--interface",
+        "frictionless",
+        "--friction",
+        "0.3",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--friction") && e.contains("frictionless"),
+        "{e}"
+    );
+}
+
 /// `n` layers with the default, evenly staggered seams (full ring), the
 /// default mesh but for the largest interval away from the welds,
 /// contact solved at 60 s and at the end of each cooling, then the

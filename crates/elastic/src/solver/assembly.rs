@@ -622,26 +622,33 @@ impl StaticSolver<'_> {
         let mut f = vec![0.0; u.len()];
         let mut kt = self.k_bulk.clone();
         self.add_interfaces_with(&self.laws, u, committed, Some(&mut kt), &mut f)?;
-        self.stabilise_slip(kt, u, committed, weight)
+        self.stabilise_slip(kt, u, committed, weight, false)
     }
 
     /// `kt + weight (K_stick − kt)`, K_stick the tangent at `u` with every
     /// Mohr–Coulomb point sticking (the same normal law; open points stay
-    /// without stiffness).
+    /// without stiffness); `with_limits_only`: only the joints with a slip
+    /// limit (a friction coefficient or a cohesion) stick, a frictionless
+    /// one keeps its tangent (it holds nothing along its faces).
     fn stabilise_slip(
         &self,
         mut kt: CsrMatrix,
         u: &[f64],
         committed: &[PointStates],
         weight: f64,
+        with_limits_only: bool,
     ) -> Result<CsrMatrix, ElasticError> {
         let laws: Vec<Joint> = self
             .laws
             .iter()
             .map(|l| match l {
-                Joint::Frictional(m) => tecon_contact::ElasticJoint::new(*m.normal_law(), m.k_s())
-                    .map(Joint::Sticking)
-                    .map_err(|e| FemError::Solver(format!("stick tangent: {e}")).into()),
+                Joint::Frictional(m)
+                    if !with_limits_only || m.tan_phi() > 0.0 || m.cohesion() > 0.0 =>
+                {
+                    tecon_contact::ElasticJoint::new(*m.normal_law(), m.k_s())
+                        .map(Joint::Sticking)
+                        .map_err(|e| FemError::Solver(format!("stick tangent: {e}")).into())
+                }
                 other => Ok(other.clone()),
             })
             .collect::<Result<_, ElasticError>>()?;
@@ -655,7 +662,8 @@ impl StaticSolver<'_> {
     }
 
     /// The frozen limits' tangent with the weak shear stiffness
-    /// `weight · k_s` at every slipping point (see
+    /// `weight · k_s` at every slipping point of a joint with a slip limit
+    /// (a frictionless joint holds nothing along its faces; see
     /// [`StaticSolver::slip_stabilised_tangent`]): what the held check
     /// looks at once the plain tangent has lost a rigid mode (see
     /// `StaticSolver::check_held_or_sliding`).
@@ -666,7 +674,7 @@ impl StaticSolver<'_> {
         weight: f64,
     ) -> Result<CsrMatrix, ElasticError> {
         let frozen = self.frozen_tangent(u, committed)?;
-        self.stabilise_slip(frozen, u, committed, weight)
+        self.stabilise_slip(frozen, u, committed, weight, true)
     }
 
     /// The tangent with every frictional law's slip limit frozen at its
