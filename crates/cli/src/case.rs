@@ -557,19 +557,12 @@ pub struct CaseResult {
 /// error with the keys that supply the missing support. Other errors as
 /// they are.
 fn constraint_hint(e: driver::DriverError) -> String {
-    let free = match &e {
-        driver::DriverError::Mechanical(m) => {
-            matches!(
-                **m,
-                tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. })
-            )
-        }
-        driver::DriverError::ContactSolve { source, .. } => matches!(
-            source.as_ref(),
-            tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. })
-        ),
-        _ => false,
-    };
+    let free = matches!(
+        e.elastic(),
+        Some(tecon_elastic::ElasticError::Fem(
+            tecon_fem::FemError::Unconstrained { .. }
+        ))
+    );
     if free {
         format!(
             "{e}. In a case file: [[mechanical.fix]] or [[mechanical.symmetry]] support a body; [mechanical] remove_free_translations = true removes translations the supports leave free; hold_rigid_modes = \"EDGES\" holds a body without supports (a full ring) in translation and rotation by a statically determinate support on the nodes of edge set EDGES"

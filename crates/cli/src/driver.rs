@@ -68,6 +68,17 @@ pub enum DriverError {
     },
 }
 
+impl DriverError {
+    /// The elastic solver's error, for a model that could not be set up or
+    /// a contact solve that failed.
+    pub(crate) fn elastic(&self) -> Option<&ElasticError> {
+        match self {
+            DriverError::Mechanical(e) | DriverError::ContactSolve { source: e, .. } => Some(e),
+            _ => None,
+        }
+    }
+}
+
 /// How the temperature field is obtained.
 #[derive(Debug, Clone)]
 pub enum Procedure {

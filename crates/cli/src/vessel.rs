@@ -231,11 +231,12 @@ fn free_layer(
     pressure: Option<f64>,
 ) -> Box<dyn std::error::Error + Send + Sync> {
     if let Some(p) = pressure.filter(|p| *p < 0.0)
-        && let driver::DriverError::ContactSolve { source, .. } = &e
         && matches!(
-            source.as_ref(),
-            tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. })
-                | tecon_elastic::ElasticError::Floating { .. }
+            e.elastic(),
+            Some(
+                tecon_elastic::ElasticError::Fem(tecon_fem::FemError::Unconstrained { .. })
+                    | tecon_elastic::ElasticError::Floating { .. }
+            )
         )
     {
         return format!(

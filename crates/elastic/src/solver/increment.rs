@@ -820,7 +820,7 @@ impl MultiplierMixing {
         // only a contracting iteration is mixed: where the plain changes
         // no longer shrink (a loop that cycles between two states) the
         // differences of the f's vanish against f and the fit is noise
-        if l2(&fs[m]) >= l2(&fs[m - 1]) {
+        if norm(&fs[m]) >= norm(&fs[m - 1]) {
             return None;
         }
         let rows = fs[m].len();
@@ -848,19 +848,14 @@ impl MultiplierMixing {
         // fit cannot back (for a contraction ρ the remaining distance is
         // ρ/(1 − ρ) of the plain change: 9 at ρ = 0.9)
         let beyond: Vec<f64> = out.iter().zip(g_k).map(|(a, b)| a - b).collect();
-        let step = l2(&beyond);
-        (step.is_finite() && step <= MAX_MIXED_STEP * l2(&fs[m])).then_some(out)
+        let step = norm(&beyond);
+        (step.is_finite() && step <= MAX_MIXED_STEP * norm(&fs[m])).then_some(out)
     }
 }
 
 /// The largest mixed step beyond the plain update, as a multiple of the
 /// plain change (see [`MultiplierMixing::observe`]).
 const MAX_MIXED_STEP: f64 = 10.0;
-
-/// Euclidean norm.
-fn l2(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
 
 /// Updates of the multipliers the mixing looks back on.
 const MIXING_DEPTH: usize = 3;
@@ -958,7 +953,7 @@ mod tests {
             let g: Vec<f64> = vec![3.0 - x[0]];
             assert!(
                 mixing
-                    .observe(closed(2), true, x.clone(), g.clone())
+                    .observe(closed(1), true, x.clone(), g.clone())
                     .is_none(),
                 "mixed a cycling loop"
             );
